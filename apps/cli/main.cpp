@@ -1,0 +1,32 @@
+// The cgamesh command-line tool.
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "algebra_demo.hpp"
+#include "cgamesh/errors.hpp"
+#include "exit_codes.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"cgamesh: animate, deform, cut, tear and drill rigged models in Conformal Geometric Algebra"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "cgamesh 0.1.0");
+  cgamesh::cli::add_algebra_demo(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? cgamesh::cli::kExitOk : cgamesh::cli::kExitBadArguments;
+  } catch (const cgamesh::InvalidInputError& e) {
+    std::cerr << "cgamesh: invalid input: " << e.what() << "\n";
+    return cgamesh::cli::kExitBadArguments;
+  } catch (const cgamesh::Error& e) {
+    std::cerr << "cgamesh: " << e.what() << "\n";
+    return cgamesh::cli::kExitImpossible;
+  } catch (const std::exception& e) {
+    std::cerr << "cgamesh: internal error: " << e.what() << "\n";
+    return cgamesh::cli::kExitInternal;
+  }
+  return cgamesh::cli::kExitOk;
+}

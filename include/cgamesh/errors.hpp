@@ -1,0 +1,34 @@
+#pragma once
+// The error hierarchy of cgamesh. Every error the library throws derives from Error, so a
+// caller can catch one type; the CLI maps each kind to its exit code and pybind11 to Python.
+
+#include <stdexcept>
+#include <string>
+
+namespace cgamesh {
+
+/// Base of every error cgamesh throws.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// An argument or input file is unusable: NaN, a degenerate plane, a non-point, a corrupt file.
+class InvalidInputError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// The mesh's connectivity does not allow the operation (non-manifold edge, open cut, ...).
+class TopologyError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A numerical method failed: a singular system, no convergence.
+class SolverError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace cgamesh

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs every Debian package cgamesh needs to build, test and benchmark, and the npm
+# packages of the test-only JavaScript oracles. Idempotent: safe to run again.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+root="$(dirname "$here")"
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libcli11-dev nlohmann-json3-dev
+)
+
+if [ "$(id -u)" -eq 0 ]; then sudo_cmd=(); else sudo_cmd=(sudo); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+# Node runs the test oracles; a machine that already has it (any vendor) keeps its own.
+command -v node >/dev/null 2>&1 || missing+=(nodejs)
+command -v npm >/dev/null 2>&1 || missing+=(npm)
+
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -q
+  "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# Test-only JavaScript oracles (ganja.js), pinned by package-lock.json.
+oracle="$root/tests/oracle"
+if [ -f "$oracle/package-lock.json" ] && [ ! -d "$oracle/node_modules/ganja.js" ]; then
+  echo "install-deps: npm ci in tests/oracle"
+  (cd "$oracle" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+echo "install-deps: all dependencies present"
