@@ -11,6 +11,8 @@ packages=(
   libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev
+  libassimp-dev assimp-testmodels
+  libtinygltf-dev libstb-dev
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo_cmd=(); else sudo_cmd=(sudo); fi
@@ -30,10 +32,12 @@ if [ "${#missing[@]}" -gt 0 ]; then
   "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
-# Test-only JavaScript oracles (ganja.js), pinned by package-lock.json.
-oracle="$root/tests/oracle"
-if [ -f "$oracle/package-lock.json" ] && [ ! -d "$oracle/node_modules/ganja.js" ]; then
-  echo "install-deps: npm ci in tests/oracle"
-  (cd "$oracle" && npm ci --no-audit --no-fund --loglevel=error)
-fi
+# Test-only JavaScript oracles (ganja.js; three.js and the Khronos glTF validator), pinned by
+# their package-lock.json files.
+for oracle in "$root/tests/oracle" "$root/tests/oracle/js"; do
+  if [ -f "$oracle/package-lock.json" ] && { [ ! -f "$oracle/node_modules/.package-lock.json" ] || [ "$oracle/package-lock.json" -nt "$oracle/node_modules/.package-lock.json" ]; }; then
+    echo "install-deps: npm ci in ${oracle#"$root"/}"
+    (cd "$oracle" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+done
 echo "install-deps: all dependencies present"

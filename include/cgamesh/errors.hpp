@@ -19,6 +19,12 @@ class InvalidInputError : public Error {
   using Error::Error;
 };
 
+/// An input file cannot be read or does not hold a valid model (missing, truncated, corrupt).
+class FileError : public InvalidInputError {
+ public:
+  using InvalidInputError::InvalidInputError;
+};
+
 /// The mesh's connectivity does not allow the operation (non-manifold edge, open cut, ...).
 class TopologyError : public Error {
  public:

@@ -7,6 +7,7 @@
 // an *outer form* is the outer product of points on it (the paper's dual form). They are
 // related by dual/undual up to a scalar factor.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -36,7 +37,9 @@ template <class T>
 [[nodiscard]] Vec3<T> down(const Vector<T>& x) {
   if (!is_finite(x)) throw InvalidInputError("down: the conformal vector has a NaN or infinite coefficient");
   const T w = x.template get<blade::eo>();
-  const T scale = max_abs(x);
+  // Not max_abs(x): the einf coefficient grows like |x|^2 and would reject far points (in
+  // float from |x| ~ 1e3). A non-point that passes is caught by the null test below.
+  const T scale = std::max({std::abs(x[0]), std::abs(x[1]), std::abs(x[2]), std::abs(w)});
   if (!(std::abs(w) > scale * std::numeric_limits<T>::epsilon() * T(16)))
     throw InvalidInputError("down: not a finite point (its eo coefficient is zero: a plane, a direction or infinity)");
   const Vector<T> n = x / w;
@@ -138,7 +141,9 @@ template <class T, BladeMask A, BladeMask B>
 template <class T>
 [[nodiscard]] std::array<Vec3<T>, 2> point_pair_points(const Bivector<T>& p) {
   const T p2 = scalar_product(p, p);
-  const T tol = std::numeric_limits<T>::epsilon() * T(64) * norm_squared(p);
+  // Rounding scale of P^2 (not P^2 itself, = -norm_squared(p), against which no negative
+  // rounding error could ever pass: tangent objects would be reported as not meeting).
+  const T tol = std::numeric_limits<T>::epsilon() * T(64) * max_abs(p) * max_abs(p);
   if (p2 < -std::abs(tol)) throw InvalidInputError("point_pair_points: imaginary point pair (the objects do not meet)");
   const T delta = std::sqrt(std::max(p2, T(0)));
   const Vector<T> d = left_contraction(einf<T>(), p);

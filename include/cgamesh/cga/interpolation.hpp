@@ -23,7 +23,7 @@ template <class T, BladeMask M>
   return (T(1) - alpha) * a + alpha * b;
 }
 
-/// V (V ~V)^(-1/2) for an even multivector V: the nearest unit versor along the ray of V.
+/// (V ~V)^(-1/2) V for an even multivector V: the nearest unit versor along the ray of V.
 /// V ~V = a + Q with Q a 4-vector whose square q is a scalar, so the inverse square root is
 /// alpha + beta Q, computed from the two "eigenvalues" a +- sqrt(q).
 /// @throws InvalidInputError when <V ~V>_0 <= 0 (V is not a blend of proper versors).
@@ -47,7 +47,9 @@ template <class T, BladeMask M>
     alpha = ((fp + fm) / T(2)).real();
     beta = ((fp - fm) / (T(2) * r)).real();
   }
-  return project<M>(v * alpha + v * q4 * beta);
+  // (alpha + beta Q) on the left: N ~N = (a + Q)^(-1/2) V ~V (a + Q)^(-1/2) = 1. (On the right,
+  // V (a + Q)^(-1) ~V is 1 only when Q commutes with V, as for motors but not TRS versors.)
+  return project<M>(v * alpha + q4 * v * beta);
 }
 
 /// Linear blend renormalised to a unit versor.

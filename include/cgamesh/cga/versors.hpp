@@ -1,7 +1,9 @@
 #pragma once
 // Rotors, translators, dilators (paper section 2.4, eq. 8-14) and the sandwich product.
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Core>
@@ -123,8 +125,13 @@ template <class T>
     throw InvalidInputError("decompose: <V ~V> = " + std::to_string(n) + " is not positive: not a TRS versor");
   const Versor<T> v = v_in / std::sqrt(n);
   // D(s) scales einf by s while T and R fix it: V einf ~V = s einf.
-  const T s = unit_sandwich(v, einf<T>()).template get<blade::einf>();
+  const Vector<T> inf_image = unit_sandwich(v, einf<T>());
+  const T s = inf_image.template get<blade::einf>();
   if (!(s > T(0)) || !std::isfinite(s))
+    throw InvalidInputError("decompose: the versor does not map infinity to itself: not a similarity");
+  // Any other component of V einf ~V (e.g. from a transversion 1 + t ^ eo) moves infinity.
+  if (max_abs(Vector<T>(inf_image - einf<T>() * s)) >
+      std::sqrt(std::numeric_limits<T>::epsilon()) * std::max(s, max_abs(v) * max_abs(v)))
     throw InvalidInputError("decompose: the versor does not map infinity to itself: not a similarity");
   SimilarityParts<T> parts = decompose(Motor<T>(project<mask::motor>(v * reverse(dilator(s)))));
   parts.scale = s;

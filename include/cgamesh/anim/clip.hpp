@@ -1,0 +1,33 @@
+#pragma once
+// Animation clips: per-joint translation, rotation and scale keys, as files store them.
+
+#include <string>
+#include <vector>
+
+namespace cgamesh::anim {
+
+/// How the file says to interpolate between keys (glTF sampler.interpolation).
+enum class Interpolation { step, linear, cubic_spline };
+/// Which part of the joint's TRS a channel drives.
+enum class ChannelPath { translation, rotation, scale };
+
+/// Keys of one TRS component of one joint.
+struct Channel {
+  int joint = -1;  ///< skeleton joint index
+  ChannelPath path = ChannelPath::translation;
+  Interpolation interpolation = Interpolation::linear;
+  std::vector<double> times;   ///< #K strictly increasing seconds
+  /// Flat key values: 3 per key (x y z) for translation/scale, 4 (x y z w) for rotation; for
+  /// cubic_spline each key holds in-tangent, value, out-tangent in that order (glTF layout).
+  std::vector<double> values;
+
+  [[nodiscard]] int components() const noexcept { return path == ChannelPath::rotation ? 4 : 3; }
+};
+
+struct Clip {
+  std::string name;
+  double duration = 0;  ///< seconds; the largest key time
+  std::vector<Channel> channels;
+};
+
+}  // namespace cgamesh::anim

@@ -1,0 +1,52 @@
+#pragma once
+// Skinning: posed world-space vertices from a skin and the global joint transforms.
+// Four modes over the same data (paper section 4.1, eq. 16-17):
+//   cga    - eq. (17): C[m] = sum_n w down((M_n B_n) c[m] (M_n B_n)^-1), each term down-projected
+//            before summing. The sandwich by a fixed versor is a linear map (cga/point_map.hpp),
+//            built once per joint and frame, so the per-vertex cost is that of matrix LBS.
+//   versor - blend the versors sum_n w (M_n B_n), renormalise, one sandwich: the CGA analogue of
+//            dual-quaternion skinning, which also carries dilations.
+//   matrix - 4x4 linear blend skinning (eq. 16), the baseline.
+//   dqs    - dual-quaternion skinning (rigid part of each joint), the baseline.
+
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "cgamesh/cga/multivector.hpp"
+#include "cgamesh/mesh/mesh.hpp"
+
+namespace cgamesh::anim {
+
+enum class SkinningMode { cga, versor, matrix, dqs };
+
+/// What one frame's skinning of one mesh needs per palette entry (built per frame, small).
+struct SkinningPalette {
+  SkinningMode mode = SkinningMode::cga;
+  std::vector<Eigen::Matrix<float, 3, 4>> affine;       ///< cga, matrix: x -> A x + b
+  std::vector<cga::Versor<float>> versors;              ///< versor: M_n B_n
+  std::vector<Eigen::Matrix<float, 8, 1>> dual_quats;   ///< dqs: real (x y z w), dual (x y z w)
+};
+
+/// Builds the palette of `mesh` for one frame. A mesh without a skin follows its node.
+/// @param[in] globals_cga     #joints global versors M_n (global_versors())
+/// @param[in] globals_matrix  #joints global matrices (global_matrices()); used by matrix/dqs
+/// @throws InvalidInputError when a palette entry names a joint outside the spans.
+[[nodiscard]] SkinningPalette make_palette(const mesh::Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
+                                           std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode);
+
+/// Skins vertices [begin, end) of `mesh` into the same rows of `out` (#V x 3): one job.
+void skin_range(const mesh::Mesh& mesh, const SkinningPalette& palette, Eigen::Index begin, Eigen::Index end,
+                mesh::RowMatrixXf<3>& out);
+
+/// Skins every vertex, split into jobs over `threads` threads (0: all hardware threads).
+[[nodiscard]] mesh::RowMatrixXf<3> skin(const mesh::Mesh& mesh, const SkinningPalette& palette, int threads = 0);
+
+/// Eq. (17) written literally, one sandwich and down-projection per vertex and influence, in
+/// double: the reference the fast modes are tested against (slow).
+[[nodiscard]] mesh::RowMatrixXf<3> skin_cga_reference(const mesh::Mesh& mesh,
+                                                      std::span<const cga::Versor<double>> globals_cga);
+
+}  // namespace cgamesh::anim

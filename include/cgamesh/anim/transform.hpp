@@ -1,0 +1,34 @@
+#pragma once
+// A joint's local transform as files store it: translation, rotation, scale (TRS).
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "cgamesh/cga/multivector.hpp"
+
+namespace cgamesh::anim {
+
+/// x -> T(translation) R(rotation) S(scale) x. The scale may be non-uniform, as files allow;
+/// a CGA versor holds only its geometric mean (see uniform_scale()).
+struct Transform {
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+
+  /// The 4x4 matrix T R S (exact, non-uniform scale included).
+  [[nodiscard]] Eigen::Matrix4d matrix() const;
+  /// Geometric mean |sx sy sz|^(1/3): the uniform scale that keeps the volume.
+  [[nodiscard]] double uniform_scale() const;
+  /// True when the three scale factors agree to a relative `tolerance`.
+  [[nodiscard]] bool is_uniform(double tolerance = 1e-5) const;
+  /// The versor T R D(uniform_scale()) (eq. 10, 8, 12 composed as in eq. 14).
+  [[nodiscard]] cga::Versor<double> versor() const;
+
+  /// Splits a 4x4 affine matrix into TRS (polar decomposition; a mirror goes into the scale).
+  /// @throws InvalidInputError for a singular or non-finite matrix.
+  [[nodiscard]] static Transform from_matrix(const Eigen::Matrix4d& m);
+  /// The TRS of a similarity versor.
+  [[nodiscard]] static Transform from_versor(const cga::Versor<double>& v);
+};
+
+}  // namespace cgamesh::anim

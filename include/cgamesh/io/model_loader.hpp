@@ -1,0 +1,25 @@
+#pragma once
+// Loading rigged and static models with Assimp: glTF/GLB, COLLADA, FBX, DirectX .x, SMD, MD5,
+// OBJ, PLY, STL and every other format Assimp reads.
+
+#include <filesystem>
+
+#include "cgamesh/anim/rigged_model.hpp"
+
+namespace cgamesh::io {
+
+struct LoadOptions {
+  /// Ticks per second for files that do not say (Assimp reports 0).
+  double default_ticks_per_second = 25.0;
+};
+
+/// Loads every triangle mesh, the node hierarchy (as the skeleton), skins and animation clips.
+/// Vertices are never merged: per-corner seams stay split. Skins keep the 4 largest influences
+/// per vertex, renormalised to sum 1; non-uniform scales in bind data or keys are kept in the
+/// TRS data and approximated by their geometric mean in the versors. Each approximation adds a
+/// line to RiggedModel::warnings.
+/// @param[in] path  model file
+/// @throws FileError when the file is missing, unreadable, corrupt, or holds no triangle mesh.
+[[nodiscard]] anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOptions& options = {});
+
+}  // namespace cgamesh::io

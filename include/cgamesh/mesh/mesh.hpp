@@ -1,0 +1,51 @@
+#pragma once
+// A triangle mesh with per-corner-split attributes and an optional skin.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cgamesh/cga/multivector.hpp"
+
+namespace cgamesh::mesh {
+
+template <int Cols>
+using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Cols, Eigen::RowMajor>;
+
+/// Per-vertex skin weights: up to four (joint, weight) pairs per vertex.
+/// Invariants after loading: weights >= 0, each row sums to 1, sorted by decreasing weight,
+/// unused slots have weight 0 and joint 0.
+struct Skin {
+  /// #V x 4 indices into `palette`.
+  Eigen::Matrix<std::uint16_t, Eigen::Dynamic, 4, Eigen::RowMajor> joints;
+  /// #V x 4 weights.
+  RowMatrixXf<4> weights;
+  /// #J skeleton joint index of each palette entry (glTF skin.joints, Assimp's bones).
+  std::vector<int> palette;
+  /// #J inverse bind matrices (mesh space -> joint space at bind time), as in the file.
+  std::vector<Eigen::Matrix4d> inverse_bind;
+  /// #J the same as versors B_n (paper eq. 17); geometric-mean scale where a matrix has
+  /// non-uniform scale (the loader warns).
+  std::vector<cga::Versor<double>> inverse_bind_versors;
+
+  [[nodiscard]] bool empty() const noexcept { return palette.empty(); }
+};
+
+/// A triangle mesh. Vertices are never merged across seams: two vertices at the same place
+/// with different joints, normals or UVs stay two.
+struct Mesh {
+  std::string name;
+  RowMatrixXf<3> positions;  ///< #V x 3 rest (bind-pose) positions in mesh space
+  RowMatrixXf<3> normals;    ///< #V x 3 unit normals, or 0 rows
+  RowMatrixXf<2> uvs;        ///< #V x 2 texture coordinates (set 0), or 0 rows
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces;  ///< #F x 3 vertex indices
+  Skin skin;                 ///< empty for a static mesh
+  int node = -1;             ///< skeleton node the mesh hangs from (static meshes), or -1
+
+  [[nodiscard]] Eigen::Index vertex_count() const noexcept { return positions.rows(); }
+  [[nodiscard]] Eigen::Index face_count() const noexcept { return faces.rows(); }
+};
+
+}  // namespace cgamesh::mesh

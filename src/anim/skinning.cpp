@@ -1,0 +1,172 @@
+#include "cgamesh/anim/skinning.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <string>
+#include <thread>
+
+#include "cgamesh/cga/geometry.hpp"
+#include "cgamesh/cga/interpolation.hpp"
+#include "cgamesh/cga/point_map.hpp"
+#include "cgamesh/cga/versors.hpp"
+#include "cgamesh/errors.hpp"
+
+namespace cgamesh::anim {
+namespace {
+
+using mesh::Mesh;
+using mesh::RowMatrixXf;
+
+/// Global joint of palette entry k, and its inverse bind (identity for a static mesh).
+int palette_joint(const Mesh& m, std::size_t k) { return m.skin.empty() ? m.node : m.skin.palette[k]; }
+std::size_t palette_size(const Mesh& m) { return m.skin.empty() ? 1 : m.skin.palette.size(); }
+
+Eigen::Matrix<float, 8, 1> dual_quaternion(const Eigen::Matrix4d& m) {
+  Eigen::Matrix3d r, s;
+  Eigen::Affine3d(m).computeRotationScaling(&r, &s);
+  const Eigen::Quaterniond q(r);
+  const Eigen::Vector3d t = m.topRightCorner<3, 1>();
+  const Eigen::Quaterniond d = Eigen::Quaterniond(0, t.x(), t.y(), t.z()) * q;
+  Eigen::Matrix<float, 8, 1> out;
+  out << q.coeffs().cast<float>(), (0.5 * d.coeffs()).cast<float>();
+  return out;
+}
+
+/// Influences of vertex i as (palette entry, weight); a static mesh has one of weight 1.
+template <class F>
+void for_each_influence(const Mesh& m, Eigen::Index i, F&& f) {
+  if (m.skin.empty()) {
+    f(0, 1.0f);
+    return;
+  }
+  for (int k = 0; k < 4; ++k) {
+    const float w = m.skin.weights(i, k);
+    if (w > 0) f(m.skin.joints(i, k), w);
+  }
+}
+
+}  // namespace
+
+SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
+                             std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode) {
+  SkinningPalette p;
+  p.mode = mode;
+  const std::size_t n = palette_size(mesh);
+  const bool uses_cga = mode == SkinningMode::cga || mode == SkinningMode::versor;
+  for (std::size_t k = 0; k < n; ++k) {
+    const int j = palette_joint(mesh, k);
+    const std::size_t count = uses_cga ? globals_cga.size() : globals_matrix.size();
+    if (j >= static_cast<int>(count))
+      throw InvalidInputError("skinning: mesh '" + mesh.name + "' uses joint " + std::to_string(j) +
+                              " but the pose has " + std::to_string(count));
+    if (uses_cga) {
+      cga::Versor<double> v = j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
+      if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
+      if (mode == SkinningMode::cga) {
+        p.affine.push_back(cga::PointMap<double>(v).affine_matrix().cast<float>());
+      } else {
+        cga::Versor<float> vf;
+        for (std::size_t c = 0; c < cga::Versor<float>::size; ++c) vf[c] = static_cast<float>(v[c]);
+        p.versors.push_back(vf);
+      }
+    } else {
+      Eigen::Matrix4d m = j < 0 ? Eigen::Matrix4d::Identity() : globals_matrix[j];
+      if (!mesh.skin.empty()) m = m * mesh.skin.inverse_bind[k];
+      if (mode == SkinningMode::matrix) p.affine.push_back(m.topRows<3>().cast<float>());
+      else p.dual_quats.push_back(dual_quaternion(m));
+    }
+  }
+  return p;
+}
+
+void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end, RowMatrixXf<3>& out) {
+  const auto& rest = mesh.positions;
+  switch (p.mode) {
+    case SkinningMode::cga:
+    case SkinningMode::matrix:
+      for (Eigen::Index i = begin; i < end; ++i) {
+        const Eigen::Vector3f x = rest.row(i).transpose();
+        Eigen::Vector3f y = Eigen::Vector3f::Zero();
+        for_each_influence(mesh, i, [&](int k, float w) {
+          const auto& a = p.affine[k];
+          y += w * (a.leftCols<3>() * x + a.col(3));
+        });
+        out.row(i) = y.transpose();
+      }
+      return;
+    case SkinningMode::versor:
+      for (Eigen::Index i = begin; i < end; ++i) {
+        cga::Versor<float> v;
+        const cga::Versor<float>* first = nullptr;
+        for_each_influence(mesh, i, [&](int k, float w) {
+          const cga::Versor<float>& pk = p.versors[k];
+          if (!first) first = &pk;
+          // V and -V are the same transform: blend on the side of the first influence.
+          v += (cga::scalar_product(*first, cga::reverse(pk)) < 0 ? -w : w) * pk;
+        });
+        const cga::Vector<float> y = cga::unit_sandwich(cga::normalized(v), cga::up(Eigen::Vector3f(rest.row(i).transpose())));
+        const float inv = 1.0f / y.get<cga::blade::eo>();
+        out.row(i) << y[0] * inv, y[1] * inv, y[2] * inv;
+      }
+      return;
+    case SkinningMode::dqs:
+      for (Eigen::Index i = begin; i < end; ++i) {
+        Eigen::Matrix<float, 8, 1> b = Eigen::Matrix<float, 8, 1>::Zero();
+        const Eigen::Matrix<float, 8, 1>* first = nullptr;
+        for_each_influence(mesh, i, [&](int k, float w) {
+          const auto& dq = p.dual_quats[k];
+          if (!first) first = &dq;
+          b += (first->head<4>().dot(dq.head<4>()) < 0 ? -w : w) * dq;
+        });
+        const float n = b.head<4>().norm();
+        const Eigen::Quaternionf q(b[3] / n, b[0] / n, b[1] / n, b[2] / n);
+        const Eigen::Quaternionf d(b[7] / n, b[4] / n, b[5] / n, b[6] / n);
+        const Eigen::Vector3f t = 2.0f * (d * q.conjugate()).vec();
+        out.row(i) = (q * Eigen::Vector3f(rest.row(i).transpose()) + t).transpose();
+      }
+      return;
+  }
+}
+
+RowMatrixXf<3> skin(const Mesh& mesh, const SkinningPalette& palette, int threads) {
+  const Eigen::Index n = mesh.vertex_count();
+  RowMatrixXf<3> out(n, 3);
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int t = static_cast<int>(std::min<Eigen::Index>(threads > 0 ? threads : hw, std::max<Eigen::Index>(1, n / 4096)));
+  if (t <= 1) {
+    skin_range(mesh, palette, 0, n, out);
+    return out;
+  }
+  std::vector<std::thread> pool;
+  std::vector<std::exception_ptr> errors(t);
+  for (int k = 0; k < t; ++k)
+    pool.emplace_back([&, k] {
+      try {
+        skin_range(mesh, palette, n * k / t, n * (k + 1) / t, out);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    });
+  for (auto& th : pool) th.join();
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  return out;
+}
+
+RowMatrixXf<3> skin_cga_reference(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga) {
+  RowMatrixXf<3> out(mesh.vertex_count(), 3);
+  for (Eigen::Index i = 0; i < mesh.vertex_count(); ++i) {
+    const cga::Vector<double> x = cga::up(cga::Vec3<double>(mesh.positions.row(i).transpose().cast<double>()));
+    cga::Vec3<double> y = cga::Vec3<double>::Zero();
+    for_each_influence(mesh, i, [&](int k, float w) {
+      const int j = palette_joint(mesh, static_cast<std::size_t>(k));
+      cga::Versor<double> v = j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
+      if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
+      y += static_cast<double>(w) * cga::down(cga::sandwich(v, x));
+    });
+    out.row(i) = y.transpose().cast<float>();
+  }
+  return out;
+}
+
+}  // namespace cgamesh::anim

@@ -1,0 +1,50 @@
+#include "cgamesh/anim/transform.hpp"
+
+#include <cmath>
+
+#include "cgamesh/cga/convert.hpp"
+#include "cgamesh/cga/versors.hpp"
+#include "cgamesh/errors.hpp"
+
+namespace cgamesh::anim {
+
+Eigen::Matrix4d Transform::matrix() const {
+  Eigen::Affine3d a = Eigen::Translation3d(translation) * rotation.normalized() * Eigen::Scaling(scale);
+  return a.matrix();
+}
+
+double Transform::uniform_scale() const { return std::cbrt(std::abs(scale.x() * scale.y() * scale.z())); }
+
+bool Transform::is_uniform(double tolerance) const {
+  const double m = scale.cwiseAbs().maxCoeff();
+  return (scale.array() - scale.x()).abs().maxCoeff() <= tolerance * m;
+}
+
+cga::Versor<double> Transform::versor() const {
+  return cga::similarity(cga::Vec3<double>(translation), cga::rotor(rotation), uniform_scale());
+}
+
+Transform Transform::from_matrix(const Eigen::Matrix4d& m) {
+  if (!m.allFinite()) throw InvalidInputError("transform matrix has NaN or infinite entries");
+  const Eigen::Matrix3d a = m.topLeftCorner<3, 3>();
+  const double det = a.determinant();
+  if (!(std::abs(det) > 1e-300)) throw InvalidInputError("transform matrix is singular (zero scale)");
+  Eigen::Matrix3d r, s;
+  Eigen::Affine3d(m).computeRotationScaling(&r, &s);
+  Transform t;
+  t.translation = m.topRightCorner<3, 1>();
+  t.rotation = Eigen::Quaterniond(r).normalized();
+  t.scale = s.diagonal();
+  return t;
+}
+
+Transform Transform::from_versor(const cga::Versor<double>& v) {
+  const cga::SimilarityParts<double> p = cga::decompose(v);
+  Transform t;
+  t.translation = p.translation;
+  t.rotation = cga::to_quaternion(p.rotation);
+  t.scale = Eigen::Vector3d::Constant(p.scale);
+  return t;
+}
+
+}  // namespace cgamesh::anim

@@ -1,0 +1,227 @@
+#include "cgamesh/io/model_loader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include "cgamesh/anim/transform.hpp"
+#include "cgamesh/errors.hpp"
+
+namespace cgamesh::io {
+namespace {
+
+using anim::Channel;
+using anim::ChannelPath;
+using anim::Transform;
+
+Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
+  return e;
+}
+
+std::string describe(const Eigen::Vector3d& s) {
+  return std::to_string(s.x()) + ", " + std::to_string(s.y()) + ", " + std::to_string(s.z());
+}
+
+class Loader {
+ public:
+  Loader(const aiScene& scene, const LoadOptions& options) : scene_(scene), options_(options) {}
+
+  anim::RiggedModel run() {
+    collect_nodes(scene_.mRootNode, -1);
+    std::vector<int> remap;
+    model_.skeleton = anim::Skeleton::build(editable_, &remap);
+    for (const auto& [node, mesh_index] : mesh_refs_) add_mesh(*scene_.mMeshes[mesh_index], remap[node], remap);
+    if (model_.meshes.empty()) throw FileError("the file holds no triangle mesh");
+    for (unsigned a = 0; a < scene_.mNumAnimations; ++a) add_clip(*scene_.mAnimations[a], a, remap);
+    return std::move(model_);
+  }
+
+ private:
+  void collect_nodes(const aiNode* node, int parent) {
+    const int index = static_cast<int>(editable_.joints.size());
+    anim::JointDesc j;
+    j.name = node->mName.C_Str();
+    if (j.name.empty()) j.name = "node" + std::to_string(index);
+    j.parent = parent;
+    j.rest = Transform::from_matrix(to_eigen(node->mTransformation));
+    if (!j.rest.is_uniform()) warn("node '" + j.name + "' has non-uniform scale (" + describe(j.rest.scale) +
+                                   "); its versor uses the geometric mean " + std::to_string(j.rest.uniform_scale()));
+    editable_.joints.push_back(std::move(j));
+    by_name_.emplace(editable_.joints.back().name, index);
+    for (unsigned m = 0; m < node->mNumMeshes; ++m) mesh_refs_.emplace_back(index, node->mMeshes[m]);
+    for (unsigned c = 0; c < node->mNumChildren; ++c) collect_nodes(node->mChildren[c], index);
+  }
+
+  void add_mesh(const aiMesh& in, int node, const std::vector<int>& remap) {
+    if ((in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0 || in.mNumFaces == 0) return;
+    mesh::Mesh m;
+    m.name = in.mName.length > 0 ? in.mName.C_Str() : "mesh" + std::to_string(model_.meshes.size());
+    const Eigen::Index nv = in.mNumVertices;
+    m.positions.resize(nv, 3);
+    for (Eigen::Index i = 0; i < nv; ++i) m.positions.row(i) << in.mVertices[i].x, in.mVertices[i].y, in.mVertices[i].z;
+    if (!m.positions.allFinite()) throw FileError("mesh '" + m.name + "' has NaN or infinite vertex positions");
+    if (in.HasNormals()) {
+      m.normals.resize(nv, 3);
+      for (Eigen::Index i = 0; i < nv; ++i) m.normals.row(i) << in.mNormals[i].x, in.mNormals[i].y, in.mNormals[i].z;
+    }
+    if (in.HasTextureCoords(0)) {
+      m.uvs.resize(nv, 2);
+      for (Eigen::Index i = 0; i < nv; ++i) m.uvs.row(i) << in.mTextureCoords[0][i].x, in.mTextureCoords[0][i].y;
+    }
+    std::vector<Eigen::Vector3i> faces;
+    for (unsigned f = 0; f < in.mNumFaces; ++f) {
+      const aiFace& face = in.mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines of a mixed mesh
+      faces.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+    }
+    m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+    for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
+    if (in.HasBones()) add_skin(in, m, remap);
+    else m.node = node;
+    model_.meshes.push_back(std::move(m));
+  }
+
+  void add_skin(const aiMesh& in, mesh::Mesh& m, const std::vector<int>& remap) {
+    const Eigen::Index nv = in.mNumVertices;
+    std::vector<std::vector<std::pair<float, int>>> influences(nv);
+    for (unsigned b = 0; b < in.mNumBones; ++b) {
+      const aiBone& bone = *in.mBones[b];
+      const auto it = by_name_.find(bone.mName.C_Str());
+      if (it == by_name_.end())
+        throw FileError("mesh '" + m.name + "' is bound to bone '" + bone.mName.C_Str() + "', which is not a node");
+      m.skin.palette.push_back(remap[it->second]);
+      const Eigen::Matrix4d ibm = to_eigen(bone.mOffsetMatrix);
+      const Transform t = Transform::from_matrix(ibm);
+      if (!t.is_uniform())
+        warn("inverse bind matrix of bone '" + std::string(bone.mName.C_Str()) + "' has non-uniform scale (" +
+             describe(t.scale) + "); its versor uses the geometric mean");
+      m.skin.inverse_bind.push_back(ibm);
+      m.skin.inverse_bind_versors.push_back(t.versor());
+      for (unsigned w = 0; w < bone.mNumWeights; ++w) {
+        const aiVertexWeight& vw = bone.mWeights[w];
+        if (vw.mVertexId < nv && vw.mWeight > 0) influences[vw.mVertexId].emplace_back(vw.mWeight, static_cast<int>(b));
+      }
+    }
+    m.skin.joints.setZero(nv, 4);
+    m.skin.weights.setZero(nv, 4);
+    Eigen::Index truncated = 0, unweighted = 0;
+    for (Eigen::Index i = 0; i < nv; ++i) {
+      auto& inf = influences[i];
+      model_.source_max_influences = std::max(model_.source_max_influences, static_cast<int>(inf.size()));
+      std::sort(inf.begin(), inf.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      if (inf.size() > 4) {
+        inf.resize(4);
+        ++truncated;
+      }
+      float sum = 0;
+      for (const auto& [w, b] : inf) sum += w;
+      if (!(sum > 0)) {
+        inf.assign(1, {1.0f, 0});
+        sum = 1;
+        ++unweighted;
+      }
+      for (std::size_t k = 0; k < inf.size(); ++k) {
+        m.skin.weights(i, static_cast<Eigen::Index>(k)) = inf[k].first / sum;
+        m.skin.joints(i, static_cast<Eigen::Index>(k)) = static_cast<std::uint16_t>(inf[k].second);
+      }
+    }
+    if (truncated > 0)
+      warn("mesh '" + m.name + "': " + std::to_string(truncated) +
+           " vertices had more than 4 influences; kept the 4 largest and renormalised");
+    if (unweighted > 0)
+      warn("mesh '" + m.name + "': " + std::to_string(unweighted) + " vertices had no weights; bound to bone '" +
+           std::string(in.mBones[0]->mName.C_Str()) + "'");
+  }
+
+  void add_clip(const aiAnimation& in, unsigned index, const std::vector<int>& remap) {
+    anim::Clip clip;
+    clip.name = in.mName.length > 0 ? in.mName.C_Str() : "clip" + std::to_string(index);
+    const double tps = in.mTicksPerSecond > 0 ? in.mTicksPerSecond : options_.default_ticks_per_second;
+    clip.duration = in.mDuration / tps;
+    for (unsigned c = 0; c < in.mNumChannels; ++c) {
+      const aiNodeAnim& na = *in.mChannels[c];
+      const auto it = by_name_.find(na.mNodeName.C_Str());
+      if (it == by_name_.end()) {
+        warn("clip '" + clip.name + "' animates unknown node '" + na.mNodeName.C_Str() + "'; ignored");
+        continue;
+      }
+      const int joint = remap[it->second];
+      add_channel(clip, joint, ChannelPath::translation, na.mPositionKeys, na.mNumPositionKeys, tps);
+      add_channel(clip, joint, ChannelPath::rotation, na.mRotationKeys, na.mNumRotationKeys, tps);
+      add_channel(clip, joint, ChannelPath::scale, na.mScalingKeys, na.mNumScalingKeys, tps);
+    }
+    for (const Channel& ch : clip.channels)
+      if (!ch.times.empty()) clip.duration = std::max(clip.duration, ch.times.back());
+    model_.clips.push_back(std::move(clip));
+  }
+
+  template <class Key>
+  void add_channel(anim::Clip& clip, int joint, ChannelPath path, const Key* keys, unsigned n, double tps) {
+    Channel ch;
+    ch.joint = joint;
+    ch.path = path;
+    ch.interpolation = anim::Interpolation::linear;  // Assimp keeps no per-key interpolation
+    bool non_uniform = false;
+    for (unsigned k = 0; k < n; ++k) {
+      const double t = keys[k].mTime / tps;
+      if (!std::isfinite(t)) throw FileError("clip '" + clip.name + "' has a NaN key time");
+      if (!ch.times.empty() && t <= ch.times.back()) continue;  // keep times strictly increasing
+      ch.times.push_back(t);
+      if constexpr (std::is_same_v<Key, aiQuatKey>) {
+        const aiQuaternion& q = keys[k].mValue;
+        ch.values.insert(ch.values.end(), {q.x, q.y, q.z, q.w});
+      } else {
+        const aiVector3D& v = keys[k].mValue;
+        ch.values.insert(ch.values.end(), {v.x, v.y, v.z});
+        if (path == ChannelPath::scale && !Transform{.scale = Eigen::Vector3d(v.x, v.y, v.z)}.is_uniform())
+          non_uniform = true;
+      }
+    }
+    for (double v : ch.values)
+      if (!std::isfinite(v)) throw FileError("clip '" + clip.name + "' has NaN or infinite key values");
+    if (non_uniform)
+      warn("clip '" + clip.name + "' scales joint '" + model_.skeleton.names()[joint] +
+           "' non-uniformly; its versors use the geometric mean");
+    if (!ch.times.empty()) clip.channels.push_back(std::move(ch));
+  }
+
+  void warn(std::string message) { model_.warnings.push_back(std::move(message)); }
+
+  const aiScene& scene_;
+  const LoadOptions& options_;
+  anim::EditableSkeleton editable_;
+  std::map<std::string, int> by_name_;
+  std::vector<std::pair<int, unsigned>> mesh_refs_;
+  anim::RiggedModel model_;
+};
+
+}  // namespace
+
+anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOptions& options) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw FileError("cannot read '" + path.string() + "': no such file");
+  Assimp::Importer importer;
+  // Vertices on different joints, normals or UVs must stay apart: no JoinIdenticalVertices.
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
+  if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == nullptr)
+    throw FileError("cannot load '" + path.string() + "': " + importer.GetErrorString());
+  try {
+    return Loader(*scene, options).run();
+  } catch (const FileError&) {
+    throw;
+  } catch (const InvalidInputError& e) {
+    throw FileError("'" + path.string() + "' is not a valid model: " + e.what());
+  }
+}
+
+}  // namespace cgamesh::io

@@ -1,0 +1,107 @@
+#include "cgamesh/io/model_loader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "anim/model_fixtures.hpp"
+#include "cgamesh/errors.hpp"
+
+namespace {
+
+using namespace cgamesh;
+namespace fs = std::filesystem;
+
+void expect_valid_skin(const mesh::Mesh& m) {
+  ASSERT_FALSE(m.skin.empty()) << m.name;
+  ASSERT_EQ(m.skin.weights.rows(), m.vertex_count());
+  ASSERT_EQ(m.skin.inverse_bind.size(), m.skin.palette.size());
+  ASSERT_EQ(m.skin.inverse_bind_versors.size(), m.skin.palette.size());
+  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) {
+    EXPECT_NEAR(m.skin.weights.row(i).sum(), 1.0f, 1e-6f) << m.name << " vertex " << i;
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_GE(m.skin.weights(i, k), 0.0f);
+      if (k > 0) {
+        EXPECT_LE(m.skin.weights(i, k), m.skin.weights(i, k - 1));
+      }
+      EXPECT_LT(m.skin.joints(i, k), m.skin.palette.size());
+    }
+  }
+  for (Eigen::Index f = 0; f < m.face_count(); ++f)
+    for (int c = 0; c < 3; ++c) ASSERT_LT(m.faces(f, c), m.vertex_count());
+}
+
+TEST(ModelLoader, GltfSamples) {
+  struct Expect {
+    fs::path path;
+    Eigen::Index vertices, faces;
+    double duration;
+  };
+  // Vertex counts are those of the files' accessors: no vertex is merged across seams.
+  for (const Expect& e : {Expect{cgamesh_test::asset("RiggedSimple.glb"), 96, 188, 2.0833},
+                          Expect{cgamesh_test::asset("RiggedFigure.glb"), 370, 256, 1.25},
+                          Expect{cgamesh_test::demo_model(), 3273, 4672, 2.0}}) {
+    SCOPED_TRACE(e.path.string());
+    const anim::RiggedModel m = io::load_model(e.path);
+    ASSERT_EQ(m.meshes.size(), 1u);
+    EXPECT_EQ(m.meshes[0].vertex_count(), e.vertices);
+    EXPECT_EQ(m.meshes[0].face_count(), e.faces);
+    EXPECT_EQ(m.meshes[0].normals.rows(), e.vertices);
+    ASSERT_EQ(m.clips.size(), 1u);
+    EXPECT_NEAR(m.clips[0].duration, e.duration, 1e-3);
+    expect_valid_skin(m.meshes[0]);
+    for (int j = 0; j < m.skeleton.size(); ++j) EXPECT_LT(m.skeleton.parents()[j], j);
+  }
+}
+
+TEST(ModelLoader, AssimpTestModelsInOtherFormats) {
+  const fs::path x = cgamesh_test::assimp_model("X/BCN_Epileptic.X");
+  const fs::path fbx = cgamesh_test::assimp_model("FBX/animation_with_skeleton.fbx");
+  if (!fs::exists(x) || !fs::exists(fbx)) GTEST_SKIP() << "assimp-testmodels not installed";
+  const anim::RiggedModel bcn = io::load_model(x);
+  EXPECT_EQ(bcn.meshes.size(), 3u);
+  EXPECT_EQ(bcn.clips.size(), 1u);
+  for (const auto& m : bcn.meshes) expect_valid_skin(m);
+
+  // This FBX has up to 6 influences per vertex and non-uniform scales: loaded, approximated, said.
+  const anim::RiggedModel f = io::load_model(fbx);
+  EXPECT_EQ(f.source_max_influences, 6);
+  expect_valid_skin(f.meshes[0]);
+  bool said_influences = false, said_scale = false;
+  for (const auto& w : f.warnings) {
+    said_influences |= w.find("more than 4 influences") != std::string::npos;
+    said_scale |= w.find("non-uniform scale") != std::string::npos;
+  }
+  EXPECT_TRUE(said_influences);
+  EXPECT_TRUE(said_scale);
+
+  for (const char* other : {"X/Testwuson.X", "SMD/WusonSMD.smd", "MD5/SimpleCube.md5mesh",
+                            "glTF2/simple_skin/simple_skin.gltf"}) {
+    const anim::RiggedModel m = io::load_model(cgamesh_test::assimp_model(other));
+    EXPECT_FALSE(m.meshes.empty()) << other;
+  }
+}
+
+TEST(ModelLoader, BadFilesThrowFileError) {
+  const fs::path dir = fs::temp_directory_path() / "cgamesh_loader_test";
+  fs::create_directories(dir);
+  EXPECT_THROW((void)io::load_model(dir / "missing.glb"), FileError);
+
+  const fs::path not_a_model = dir / "notes.glb";
+  std::ofstream(not_a_model) << "this is not a model\n";
+  EXPECT_THROW((void)io::load_model(not_a_model), FileError);
+
+  // The first 6000 bytes of a real GLB: the binary chunk is cut off.
+  const fs::path truncated = dir / "truncated.glb";
+  {
+    std::ifstream in(cgamesh_test::asset("RiggedSimple.glb"), std::ios::binary);
+    std::string bytes(6000, '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(truncated, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  EXPECT_THROW((void)io::load_model(truncated), FileError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
