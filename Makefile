@@ -25,7 +25,7 @@ sanitize: deps
 	ctest --test-dir $(SAN_BUILD) --output-on-failure -j $(JOBS)
 
 demo: build
-	$(BUILD)/apps/cli/cgamesh algebra-demo
+	bash scripts/demo.sh $(BUILD)/apps/cli/cgamesh
 
 bench: deps
 	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release

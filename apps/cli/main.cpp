@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "algebra_demo.hpp"
+#include "model_commands.hpp"
 #include "cgamesh/errors.hpp"
 #include "exit_codes.hpp"
 
@@ -12,12 +13,22 @@ int main(int argc, char** argv) {
   CLI::App app{"cgamesh: animate, deform, cut, tear and drill rigged models in Conformal Geometric Algebra"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "cgamesh 0.1.0");
+  cgamesh::cli::add_info(app);
+  cgamesh::cli::add_pose(app);
+  cgamesh::cli::add_convert(app);
+  cgamesh::cli::add_animate(app);
   cgamesh::cli::add_algebra_demo(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? cgamesh::cli::kExitOk : cgamesh::cli::kExitBadArguments;
+  } catch (const cgamesh::FileError& e) {
+    std::cerr << "cgamesh: " << e.what() << "\n";
+    return cgamesh::cli::kExitBadInput;
+  } catch (const cgamesh::WriteError& e) {
+    std::cerr << "cgamesh: cannot write the output: " << e.what() << "\n";
+    return cgamesh::cli::kExitBadArguments;
   } catch (const cgamesh::InvalidInputError& e) {
     std::cerr << "cgamesh: invalid input: " << e.what() << "\n";
     return cgamesh::cli::kExitBadArguments;

@@ -25,6 +25,13 @@ class FileError : public InvalidInputError {
   using InvalidInputError::InvalidInputError;
 };
 
+/// An output file could not be written: missing directory, no permission, disk full, the
+/// target is a directory, ...
+class WriteError : public Error {
+ public:
+  using Error::Error;
+};
+
 /// The mesh's connectivity does not allow the operation (non-manifold edge, open cut, ...).
 class TopologyError : public Error {
  public:

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -123,7 +125,7 @@ TYPED_TEST(Geometry, SegmentPlaneIntersection) {
   using T = TypeParam;
   const T tol = pick<T>(1e-14, 1e-6);
   const Vector<T> p = plane<T>(Vec3<T>(0, 0, 2), T(2));  // z = 1
-  // Crossing: from z = -1 to z = 3, hit at a quarter... at t = 0.5 -> (x, y) midway.
+  // Crossing: from z = -1 to z = 3, the plane is reached halfway.
   const auto hit = segment_plane_intersection<T>(Vec3<T>(0, 0, -1), Vec3<T>(4, 2, 3), p);
   ASSERT_TRUE(hit.has_value());
   EXPECT_MAT_NEAR(*hit, Vec3<T>(2, 1, 1), tol);

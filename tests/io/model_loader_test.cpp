@@ -1,12 +1,13 @@
 #include "cgamesh/io/model_loader.hpp"
 
-#include <gtest/gtest.h>
-
 #include <filesystem>
 #include <fstream>
 
-#include "anim/model_fixtures.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/errors.hpp"
+
+#include "anim/model_fixtures.hpp"
 
 namespace {
 
@@ -76,8 +77,8 @@ TEST(ModelLoader, AssimpTestModelsInOtherFormats) {
   EXPECT_TRUE(said_influences);
   EXPECT_TRUE(said_scale);
 
-  for (const char* other : {"X/Testwuson.X", "SMD/WusonSMD.smd", "MD5/SimpleCube.md5mesh",
-                            "glTF2/simple_skin/simple_skin.gltf"}) {
+  for (const char* other :
+       {"X/Testwuson.X", "SMD/WusonSMD.smd", "MD5/SimpleCube.md5mesh", "glTF2/simple_skin/simple_skin.gltf"}) {
     const anim::RiggedModel m = io::load_model(cgamesh_test::assimp_model(other));
     EXPECT_FALSE(m.meshes.empty()) << other;
   }

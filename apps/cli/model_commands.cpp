@@ -1,0 +1,298 @@
+#include "model_commands.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cgamesh/anim/keyframes.hpp"
+#include "cgamesh/anim/pose.hpp"
+#include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/errors.hpp"
+#include "cgamesh/io/gltf_writer.hpp"
+#include "cgamesh/io/mesh_writer.hpp"
+#include "cgamesh/io/model_loader.hpp"
+
+namespace cgamesh::cli {
+namespace {
+
+using anim::BlendMode;
+using anim::SkinningMode;
+using Json = nlohmann::ordered_json;
+
+const std::map<std::string, BlendMode> kBlendModes{
+    {"format", BlendMode::format}, {"linear", BlendMode::linear}, {"log", BlendMode::log}};
+const std::map<std::string, SkinningMode> kSkinningModes{{"cga", SkinningMode::cga},
+                                                         {"versor", SkinningMode::versor},
+                                                         {"matrix", SkinningMode::matrix},
+                                                         {"dqs", SkinningMode::dqs}};
+
+std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what) {
+  std::vector<double> out;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    try {
+      std::size_t used = 0;
+      out.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InvalidInputError(what + ": '" + item + "' is not a number");
+    }
+    if (!std::isfinite(out.back())) throw InvalidInputError(what + ": '" + item + "' is not finite");
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  if (out.size() != count)
+    throw InvalidInputError(what + ": expected " + std::to_string(count) + " comma-separated numbers, got '" + text + "'");
+  return out;
+}
+
+int joint_index(const anim::Skeleton& skeleton, const std::string& name) {
+  const int j = skeleton.find(name);
+  if (j < 0) {
+    std::string known;
+    for (const auto& n : skeleton.names()) known += (known.empty() ? "" : ", ") + n;
+    throw InvalidInputError("unknown joint '" + name + "' (joints: " + known + ")");
+  }
+  return j;
+}
+
+/// "JOINT:rotate=AX,AY,AZ,DEG" | "JOINT:translate=X,Y,Z" | "JOINT:scale=S".
+anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& text) {
+  const std::size_t colon = text.rfind(':');
+  const std::size_t eq = text.find('=', colon == std::string::npos ? 0 : colon);
+  if (colon == std::string::npos || eq == std::string::npos)
+    throw InvalidInputError("'" + text + "': expected JOINT:rotate=AX,AY,AZ,DEG, JOINT:translate=X,Y,Z or JOINT:scale=S");
+  anim::JointEdit e;
+  e.joint = joint_index(skeleton, text.substr(0, colon));
+  const std::string kind = text.substr(colon + 1, eq - colon - 1), args = text.substr(eq + 1);
+  if (kind == "rotate") {
+    const auto v = parse_numbers(args, 4, "rotate");
+    e.axis = Eigen::Vector3d(v[0], v[1], v[2]);
+    if (!(e.axis.norm() > 0)) throw InvalidInputError("rotate: the axis is the zero vector");
+    e.angle = v[3] * std::numbers::pi / 180.0;
+  } else if (kind == "translate") {
+    const auto v = parse_numbers(args, 3, "translate");
+    e.translation = Eigen::Vector3d(v[0], v[1], v[2]);
+  } else if (kind == "scale") {
+    e.scale = parse_numbers(args, 1, "scale")[0];
+    if (!(e.scale > 0)) throw InvalidInputError("scale: must be > 0 (a CGA dilator has a positive factor), got " + args);
+  } else {
+    throw InvalidInputError("'" + kind + "': the edit must be rotate, translate or scale");
+  }
+  return e;
+}
+
+int clip_index(const anim::RiggedModel& model, const std::string& anim) {
+  if (anim.empty()) return model.clips.empty() ? -1 : 0;
+  const int by_name = model.find_clip(anim);
+  if (by_name >= 0) return by_name;
+  try {
+    std::size_t used = 0;
+    const int i = std::stoi(anim, &used);
+    if (used == anim.size() && i >= 0 && i < static_cast<int>(model.clips.size())) return i;
+  } catch (const std::exception&) {
+  }
+  throw InvalidInputError("no animation '" + anim + "' (the model has " + std::to_string(model.clips.size()) + ")");
+}
+
+/// World-space positions of every mesh in `pose`.
+std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
+                                                   SkinningMode mode) {
+  const auto gv = anim::global_versors(model.skeleton, pose);
+  const auto gm = anim::global_matrices(model.skeleton, pose);
+  std::vector<mesh::RowMatrixXf<3>> out;
+  for (const mesh::Mesh& m : model.meshes) out.push_back(anim::skin(m, anim::make_palette(m, gv, gm, mode)));
+  return out;
+}
+
+Json vec_json(const Eigen::Vector3f& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+// ---- info ----
+struct InfoOptions {
+  std::string model;
+  bool json = false;
+};
+
+void run_info(const InfoOptions& o) {
+  const anim::RiggedModel model = io::load_model(o.model);
+  const auto rest = posed_positions(model, anim::rest_pose(model.skeleton), SkinningMode::matrix);
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  Json meshes = Json::array();
+  long vertices = 0, triangles = 0;
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    const mesh::Mesh& m = model.meshes[i];
+    vertices += m.vertex_count();
+    triangles += m.face_count();
+    if (m.vertex_count() > 0) {
+      lo = lo.cwiseMin(rest[i].colwise().minCoeff().transpose());
+      hi = hi.cwiseMax(rest[i].colwise().maxCoeff().transpose());
+    }
+    meshes.push_back({{"name", m.name}, {"vertices", m.vertex_count()}, {"triangles", m.face_count()},
+                      {"skinned", !m.skin.empty()}, {"joints", m.skin.palette.size()}});
+  }
+  Json clips = Json::array();
+  for (const anim::Clip& c : model.clips) clips.push_back({{"name", c.name}, {"duration", c.duration}});
+  const Json out = {{"file", o.model},
+                    {"meshes", meshes},
+                    {"vertices", vertices},
+                    {"triangles", triangles},
+                    {"joints", model.skeleton.size()},
+                    {"animations", clips},
+                    {"max_influences", model.source_max_influences},
+                    {"bounding_box", {{"min", vec_json(lo)}, {"max", vec_json(hi)}}},
+                    {"warnings", model.warnings}};
+  if (o.json) {
+    std::cout << out.dump(2) << "\n";
+    return;
+  }
+  std::cout << o.model << "\n  meshes: " << model.meshes.size() << " (" << vertices << " vertices, " << triangles
+            << " triangles)\n";
+  for (const auto& m : meshes)
+    std::cout << "    " << m["name"].get<std::string>() << ": " << m["vertices"] << " vertices, " << m["triangles"]
+              << " triangles" << (m["skinned"].get<bool>() ? ", skinned to " + m["joints"].dump() + " joints" : "")
+              << "\n";
+  std::cout << "  joints: " << model.skeleton.size() << "\n  animations: " << model.clips.size() << "\n";
+  for (const auto& c : clips)
+    std::cout << "    " << c["name"].get<std::string>() << ": " << c["duration"].get<double>() << " s\n";
+  std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: ["
+            << lo.transpose() << "] - [" << hi.transpose() << "]\n";
+  for (const auto& w : model.warnings) std::cout << "  warning: " << w << "\n";
+}
+
+// ---- pose ----
+struct PoseOptions {
+  std::string model, output, anim;
+  double time = 0;
+  BlendMode blend = BlendMode::format;
+  SkinningMode skinning = SkinningMode::cga;
+  std::vector<std::string> sets;
+  bool bind_pose = false;
+  bool json = false;
+};
+
+void run_pose(const PoseOptions& o) {
+  if (!std::isfinite(o.time) || o.time < 0) throw InvalidInputError("--time must be a finite number >= 0");
+  const anim::RiggedModel model = io::load_model(o.model);
+  std::vector<anim::JointEdit> edits;
+  for (const std::string& s : o.sets) edits.push_back(parse_edit(model.skeleton, s));
+  const int clip = o.bind_pose ? -1 : clip_index(model, o.anim);
+  anim::Pose pose = clip < 0 ? anim::rest_pose(model.skeleton) : anim::sample(model.skeleton, model.clips[clip], o.time, o.blend);
+  anim::apply_edits(pose, edits);
+  const auto positions = posed_positions(model, pose, o.skinning);
+  io::write_mesh(model.meshes, positions, o.output);
+  if (o.json) {
+    Json out = {{"output", o.output}, {"animation", clip < 0 ? Json(nullptr) : Json(model.clips[clip].name)},
+                {"time", o.time}, {"meshes", model.meshes.size()}};
+    std::cout << out.dump(2) << "\n";
+  }
+}
+
+// ---- convert ----
+struct ConvertOptions {
+  std::string model, output;
+  bool json = false;
+};
+
+void run_convert(const ConvertOptions& o) {
+  const anim::RiggedModel model = io::load_model(o.model);
+  io::write_gltf(model, o.output);
+  if (o.json)
+    std::cout << Json({{"output", o.output}, {"meshes", model.meshes.size()}, {"joints", model.skeleton.size()},
+                       {"animations", model.clips.size()}, {"warnings", model.warnings}})
+                     .dump(2)
+              << "\n";
+}
+
+// ---- animate ----
+struct AnimateOptions {
+  std::string model, output, name = "generated";
+  std::vector<std::string> keys;
+  BlendMode blend = BlendMode::linear;
+  double fps = 30;
+  bool json = false;
+};
+
+void run_animate(const AnimateOptions& o) {
+  anim::RiggedModel model = io::load_model(o.model);
+  std::map<double, anim::Keyframe> by_time;
+  for (const std::string& k : o.keys) {
+    const std::size_t colon = k.find(':');
+    if (colon == std::string::npos) throw InvalidInputError("--key '" + k + "': expected TIME:JOINT:EDIT=VALUES");
+    const double t = parse_numbers(k.substr(0, colon), 1, "--key time")[0];
+    anim::Keyframe& kf = by_time[t];
+    kf.time = t;
+    kf.edits.push_back(parse_edit(model.skeleton, k.substr(colon + 1)));
+  }
+  std::vector<anim::Keyframe> keyframes;
+  for (auto& [t, kf] : by_time) keyframes.push_back(std::move(kf));
+  model.clips.push_back(anim::generate_clip(model.skeleton, keyframes, {.blend = o.blend, .fps = o.fps, .name = o.name}));
+  io::write_gltf(model, o.output);
+  if (o.json)
+    std::cout << Json({{"output", o.output}, {"animation", o.name}, {"keyframes", keyframes.size()},
+                       {"duration", model.clips.back().duration}, {"channels", model.clips.back().channels.size()}})
+                     .dump(2)
+              << "\n";
+}
+
+}  // namespace
+
+void add_info(CLI::App& app) {
+  auto o = std::make_shared<InfoOptions>();
+  CLI::App* sub = app.add_subcommand("info", "Meshes, joints, animations, influences, bounding box and warnings of a model");
+  sub->add_option("MODEL", o->model, "model file (any format Assimp reads)")->required();
+  sub->add_flag("--json", o->json, "print a machine-readable summary");
+  sub->callback([o] { run_info(*o); });
+}
+
+void add_pose(CLI::App& app) {
+  auto o = std::make_shared<PoseOptions>();
+  CLI::App* sub = app.add_subcommand("pose", "Write the world-space posed geometry of all meshes (OBJ or PLY)");
+  sub->add_option("MODEL", o->model, "model file")->required();
+  sub->add_option("-o,--output", o->output, "output file: .obj or .ply")->required();
+  sub->add_option("--anim", o->anim, "animation name or index (default: the first)");
+  sub->add_option("--time", o->time, "seconds into the animation")->capture_default_str();
+  sub->add_option("--blend", o->blend, "key blending: format, linear or log")
+      ->transform(CLI::CheckedTransformer(kBlendModes, CLI::ignore_case));
+  sub->add_option("--skinning", o->skinning, "skinning: cga, versor, matrix or dqs")
+      ->transform(CLI::CheckedTransformer(kSkinningModes, CLI::ignore_case));
+  sub->add_option("--set", o->sets, "JOINT:rotate=AX,AY,AZ,DEG | JOINT:translate=X,Y,Z | JOINT:scale=S (repeatable)");
+  sub->add_flag("--bind-pose", o->bind_pose, "the bind pose instead of an animation");
+  sub->add_flag("--json", o->json, "print a machine-readable summary");
+  sub->callback([o] { run_pose(*o); });
+}
+
+void add_convert(CLI::App& app) {
+  auto o = std::make_shared<ConvertOptions>();
+  CLI::App* sub = app.add_subcommand("convert", "Convert any readable model to a rigged glTF 2.0 (.glb or .gltf)");
+  sub->add_option("MODEL", o->model, "model file")->required();
+  sub->add_option("-o,--output", o->output, "output .glb or .gltf")->required();
+  sub->add_flag("--json", o->json, "print a machine-readable summary");
+  sub->callback([o] { run_convert(*o); });
+}
+
+void add_animate(CLI::App& app) {
+  auto o = std::make_shared<AnimateOptions>();
+  CLI::App* sub = app.add_subcommand("animate", "Generate keyframes on the fly and write them as a new clip");
+  sub->add_option("MODEL", o->model, "model file")->required();
+  sub->add_option("-o,--output", o->output, "output .glb or .gltf")->required();
+  sub->add_option("--key", o->keys, "TIME:JOINT:rotate=AX,AY,AZ,DEG (or translate=X,Y,Z, scale=S); repeatable")
+      ->required();
+  sub->add_option("--blend", o->blend, "linear or log")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, BlendMode>{{"linear", BlendMode::linear},
+                                                                          {"log", BlendMode::log}},
+                                          CLI::ignore_case));
+  sub->add_option("--fps", o->fps, "frames per second of the generated clip")->capture_default_str();
+  sub->add_option("--name", o->name, "name of the new clip")->capture_default_str();
+  sub->add_flag("--json", o->json, "print a machine-readable summary");
+  sub->callback([o] { run_animate(*o); });
+}
+
+}  // namespace cgamesh::cli

@@ -1,0 +1,538 @@
+#include "cgamesh/io/gltf_writer.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <new>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "cgamesh/errors.hpp"
+#include "cgamesh/io/atomic_file.hpp"
+
+namespace cgamesh::io {
+namespace {
+
+namespace fs = std::filesystem;
+using anim::Channel;
+using anim::ChannelPath;
+using anim::Interpolation;
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+/// The name of the .bin next to `gltf`: its stem with every character outside [A-Za-z0-9._-]
+/// replaced by '_', so the URI needs no percent-encoding (which Assimp and tinygltf do not
+/// decode).
+std::string bin_file_name(const fs::path& gltf) {
+  std::string name = gltf.stem().string();
+  for (char& c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (!(u < 128 && (std::isalnum(u) || c == '-' || c == '.' || c == '_'))) c = '_';
+  }
+  return name + ".bin";
+}
+
+std::string mesh_label(const mesh::Mesh& m, std::size_t index) {
+  return "mesh " + std::to_string(index) + (m.name.empty() ? std::string() : " ('" + m.name + "')");
+}
+
+bool finite(double x) { return std::isfinite(x); }
+
+[[noreturn]] void invalid(const std::string& message) { throw InvalidInputError("write_gltf: " + message); }
+
+/// Builds the tinygltf model: one buffer, little-endian data appended view by view.
+class Builder {
+ public:
+  Builder(const anim::RiggedModel& model, std::vector<std::string>& warnings) : model_(model), warnings_(warnings) {
+    gm_.buffers.resize(1);
+    gm_.asset.version = "2.0";
+    gm_.asset.generator = "cgamesh";
+  }
+
+  tinygltf::Model run() {
+    if (model_.meshes.empty()) invalid("the model has no mesh");
+    add_joint_nodes();
+    gm_.scenes.resize(1);
+    gm_.defaultScene = 0;
+    add_meshes();  // may add the synthetic root, so scene roots come after
+    if (synthetic_root_ >= 0) {
+      gm_.scenes[0].nodes.push_back(synthetic_root_);
+    } else {
+      for (int j = 0; j < skeleton_size(); ++j)
+        if (model_.skeleton.parents()[j] < 0) gm_.scenes[0].nodes.push_back(j);
+    }
+    for (int n : mesh_roots_) gm_.scenes[0].nodes.push_back(n);
+    for (std::size_t c = 0; c < model_.clips.size(); ++c) add_clip(model_.clips[c], c);
+    return std::move(gm_);
+  }
+
+ private:
+  [[nodiscard]] int skeleton_size() const { return model_.skeleton.size(); }
+  std::vector<unsigned char>& data() { return gm_.buffers[0].data; }
+
+  // ---- buffer -------------------------------------------------------------------------------
+
+  void put_u32(std::uint32_t v) {
+    for (int b = 0; b < 4; ++b) data().push_back(static_cast<unsigned char>(v >> (8 * b)));
+  }
+  void put_u16(std::uint16_t v) {
+    data().push_back(static_cast<unsigned char>(v & 0xff));
+    data().push_back(static_cast<unsigned char>(v >> 8));
+  }
+  void put_f32(float v) { put_u32(std::bit_cast<std::uint32_t>(v)); }
+
+  /// Starts a buffer view at a 4-byte boundary; returns its byte offset.
+  std::size_t begin_view() {
+    while (data().size() % 4 != 0) data().push_back(0);
+    return data().size();
+  }
+  int end_view(std::size_t begin, int target, int stride) {
+    tinygltf::BufferView v;
+    v.buffer = 0;
+    v.byteOffset = begin;
+    v.byteLength = data().size() - begin;
+    v.target = target;
+    v.byteStride = static_cast<std::size_t>(stride);
+    gm_.bufferViews.push_back(std::move(v));
+    return static_cast<int>(gm_.bufferViews.size()) - 1;
+  }
+  int add_accessor(int view, int component_type, int type, std::size_t count, std::vector<double> min = {},
+                   std::vector<double> max = {}) {
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.byteOffset = 0;
+    a.componentType = component_type;
+    a.type = type;
+    a.count = count;
+    a.minValues = std::move(min);
+    a.maxValues = std::move(max);
+    gm_.accessors.push_back(std::move(a));
+    return static_cast<int>(gm_.accessors.size()) - 1;
+  }
+  /// Float vertex attribute or sampler data: `rows` x `cols` row-major floats.
+  int add_float_accessor(const float* values, std::size_t rows, int cols, int type, int target, bool bounds) {
+    const std::size_t begin = begin_view();
+    std::vector<double> mn, mx;
+    if (bounds) {
+      mn.assign(cols, std::numeric_limits<double>::infinity());
+      mx.assign(cols, -std::numeric_limits<double>::infinity());
+    }
+    for (std::size_t r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const float v = values[r * cols + c];
+        put_f32(v);
+        if (bounds) {
+          mn[c] = std::min(mn[c], static_cast<double>(v));
+          mx[c] = std::max(mx[c], static_cast<double>(v));
+        }
+      }
+    const int stride = target == TINYGLTF_TARGET_ARRAY_BUFFER ? 4 * cols : 0;
+    const int view = end_view(begin, target, stride);
+    return add_accessor(view, TINYGLTF_COMPONENT_TYPE_FLOAT, type, rows, std::move(mn), std::move(mx));
+  }
+
+  // ---- skeleton -----------------------------------------------------------------------------
+
+  void add_joint_nodes() {
+    const auto& sk = model_.skeleton;
+    gm_.nodes.resize(static_cast<std::size_t>(sk.size()));
+    for (int j = 0; j < sk.size(); ++j) {
+      tinygltf::Node& n = gm_.nodes[j];
+      n.name = sk.names()[j];
+      const anim::Transform& t = sk.rest()[j];
+      const Eigen::Vector4d q = t.rotation.coeffs();  // x y z w
+      if (!t.translation.allFinite() || !q.allFinite() || !t.scale.allFinite())
+        invalid("joint '" + n.name + "' has a NaN or infinite rest transform");
+      if (!(q.norm() > 0)) invalid("joint '" + n.name + "' has a zero rest rotation");
+      if (!t.translation.isZero(0)) n.translation = {t.translation.x(), t.translation.y(), t.translation.z()};
+      const Eigen::Vector4d qn = q / q.norm();
+      if (qn != Eigen::Vector4d(0, 0, 0, 1)) n.rotation = {qn.x(), qn.y(), qn.z(), qn.w()};
+      if (t.scale != Eigen::Vector3d::Ones()) n.scale = {t.scale.x(), t.scale.y(), t.scale.z()};
+      const int p = sk.parents()[j];
+      if (p >= 0) gm_.nodes[p].children.push_back(j);
+    }
+    depth_.resize(static_cast<std::size_t>(sk.size()));
+    for (int j = 0; j < sk.size(); ++j) depth_[j] = sk.parents()[j] < 0 ? 0 : depth_[sk.parents()[j]] + 1;
+  }
+
+  /// Lowest common ancestor of two joints, or -1 when they lie in different trees.
+  [[nodiscard]] int common_ancestor(int a, int b) const {
+    const auto parents = model_.skeleton.parents();
+    while (a != b && a >= 0 && b >= 0) {
+      if (depth_[a] >= depth_[b])
+        a = parents[a];
+      else
+        b = parents[b];
+    }
+    return a == b ? a : -1;
+  }
+
+  /// The extra root above every skeleton root (made once, when a skin spans several trees).
+  int synthetic_root() {
+    if (synthetic_root_ < 0) {
+      tinygltf::Node root;
+      root.name = "cgamesh_root";
+      for (int j = 0; j < skeleton_size(); ++j)
+        if (model_.skeleton.parents()[j] < 0) root.children.push_back(j);
+      gm_.nodes.push_back(std::move(root));
+      synthetic_root_ = static_cast<int>(gm_.nodes.size()) - 1;
+      warnings_.push_back("the joints of a skin lie in several trees: added the root node 'cgamesh_root' above them");
+    }
+    return synthetic_root_;
+  }
+
+  // ---- meshes -------------------------------------------------------------------------------
+
+  void add_meshes() {
+    for (std::size_t i = 0; i < model_.meshes.size(); ++i) add_mesh(model_.meshes[i], i);
+  }
+
+  void add_mesh(const mesh::Mesh& m, std::size_t index) {
+    const std::string label = mesh_label(m, index);
+    const Eigen::Index nv = m.vertex_count();
+    if (nv == 0 || m.face_count() == 0) invalid(label + " has no vertices or no faces");
+    if (!m.positions.allFinite()) invalid(label + " has NaN or infinite positions");
+    if (m.normals.rows() != 0 && m.normals.rows() != nv)
+      invalid(label + " has " + std::to_string(m.normals.rows()) + " normals for " + std::to_string(nv) + " vertices");
+    if (m.uvs.rows() != 0 && m.uvs.rows() != nv)
+      invalid(label + " has " + std::to_string(m.uvs.rows()) + " texture coordinates for " + std::to_string(nv) +
+              " vertices");
+    if (!m.uvs.allFinite()) invalid(label + " has NaN or infinite texture coordinates");
+    if (m.faces.size() > 0 && (m.faces.minCoeff() < 0 || m.faces.maxCoeff() >= nv))
+      invalid(label + " has a face index outside [0, " + std::to_string(nv) + ")");
+
+    tinygltf::Primitive prim;
+    prim.mode = TINYGLTF_MODE_TRIANGLES;
+    prim.attributes["POSITION"] = add_float_accessor(m.positions.data(), static_cast<std::size_t>(nv), 3,
+                                                     TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+    if (m.normals.rows() == nv) add_normals(m, prim, label);
+    if (m.uvs.rows() == nv)
+      prim.attributes["TEXCOORD_0"] = add_float_accessor(m.uvs.data(), static_cast<std::size_t>(nv), 2,
+                                                         TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+    int skin = -1;
+    if (!m.skin.empty()) skin = add_skin(m, prim, label);
+    prim.indices = add_indices(m);
+
+    tinygltf::Mesh gmesh;
+    gmesh.name = m.name;
+    gmesh.primitives.push_back(std::move(prim));
+    gm_.meshes.push_back(std::move(gmesh));
+
+    tinygltf::Node node;
+    node.name = m.name;
+    node.mesh = static_cast<int>(gm_.meshes.size()) - 1;
+    node.skin = skin;
+    gm_.nodes.push_back(std::move(node));
+    const int node_index = static_cast<int>(gm_.nodes.size()) - 1;
+    if (skin >= 0 || m.node == -1) {
+      mesh_roots_.push_back(node_index);
+    } else {
+      if (m.node < 0 || m.node >= skeleton_size())
+        invalid(label + " hangs from node " + std::to_string(m.node) + " outside the skeleton of " +
+                std::to_string(skeleton_size()) + " joints");
+      gm_.nodes[m.node].children.push_back(node_index);
+    }
+  }
+
+  void add_normals(const mesh::Mesh& m, tinygltf::Primitive& prim, const std::string& label) {
+    mesh::RowMatrixXf<3> n(m.normals.rows(), 3);
+    for (Eigen::Index v = 0; v < n.rows(); ++v) {
+      const Eigen::Vector3f row = m.normals.row(v).transpose();
+      const float len = row.norm();
+      if (!std::isfinite(len) || !(len > 0)) {
+        warnings_.push_back(label + ": normal " + std::to_string(v) + " is zero or not finite; NORMAL not written");
+        return;
+      }
+      n.row(v) = (row / len).transpose();
+    }
+    prim.attributes["NORMAL"] = add_float_accessor(n.data(), static_cast<std::size_t>(n.rows()), 3, TINYGLTF_TYPE_VEC3,
+                                                   TINYGLTF_TARGET_ARRAY_BUFFER, false);
+  }
+
+  int add_indices(const mesh::Mesh& m) {
+    const bool narrow = m.vertex_count() <= 65535;  // 65535 is the primitive restart value
+    const std::size_t begin = begin_view();
+    for (Eigen::Index f = 0; f < m.face_count(); ++f)
+      for (int c = 0; c < 3; ++c) {
+        if (narrow)
+          put_u16(static_cast<std::uint16_t>(m.faces(f, c)));
+        else
+          put_u32(static_cast<std::uint32_t>(m.faces(f, c)));
+      }
+    const int view = end_view(begin, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0);
+    return add_accessor(view, narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                        TINYGLTF_TYPE_SCALAR, static_cast<std::size_t>(3 * m.face_count()));
+  }
+
+  int add_skin(const mesh::Mesh& m, tinygltf::Primitive& prim, const std::string& label) {
+    const mesh::Skin& s = m.skin;
+    const Eigen::Index nv = m.vertex_count();
+    const std::size_t np = s.palette.size();
+    if (s.joints.rows() != nv || s.weights.rows() != nv)
+      invalid(label + ": skin has " + std::to_string(s.joints.rows()) + " joint rows and " +
+              std::to_string(s.weights.rows()) + " weight rows for " + std::to_string(nv) + " vertices");
+    if (s.inverse_bind.size() != np)
+      invalid(label + ": skin palette has " + std::to_string(np) + " entries but " +
+              std::to_string(s.inverse_bind.size()) + " inverse bind matrices");
+    if (np > 65536) invalid(label + ": skin palette has more than 65536 entries");
+    std::set<int> seen;
+    for (int j : s.palette) {
+      if (j < 0 || j >= skeleton_size())
+        invalid(label + ": skin palette names joint " + std::to_string(j) + " outside the skeleton of " +
+                std::to_string(skeleton_size()) + " joints");
+      if (!seen.insert(j).second) invalid(label + ": skin palette names joint " + std::to_string(j) + " twice");
+    }
+
+    // JOINTS_0 and WEIGHTS_0: duplicates merged, rows renormalised, unused slots (0, 0).
+    std::vector<std::uint16_t> joints(static_cast<std::size_t>(4 * nv));
+    std::vector<float> weights(static_cast<std::size_t>(4 * nv));
+    Eigen::Index merged = 0;
+    for (Eigen::Index v = 0; v < nv; ++v) {
+      std::array<int, 4> j{};
+      std::array<double, 4> w{};
+      for (int k = 0; k < 4; ++k) {
+        j[k] = s.joints(v, k);
+        w[k] = s.weights(v, k);
+        if (!finite(w[k]) || w[k] < 0)
+          invalid(label + ": vertex " + std::to_string(v) + " has a negative or NaN skin weight");
+        if (static_cast<std::size_t>(j[k]) >= np)
+          invalid(label + ": vertex " + std::to_string(v) + " uses palette entry " + std::to_string(j[k]) + " of " +
+                  std::to_string(np));
+      }
+      bool dup = false;
+      for (int k = 1; k < 4; ++k)
+        for (int l = 0; l < k && w[k] > 0; ++l)
+          if (w[l] > 0 && j[l] == j[k]) {
+            w[l] += w[k];
+            w[k] = 0;
+            dup = true;
+          }
+      merged += dup ? 1 : 0;
+      const double sum = w[0] + w[1] + w[2] + w[3];
+      if (!(sum > 0) || !finite(sum))
+        invalid(label + ": vertex " + std::to_string(v) + " has skin weights summing to 0");
+      std::array<float, 4> f{};
+      int largest = 0;
+      for (int k = 0; k < 4; ++k) {
+        f[k] = static_cast<float>(w[k] / sum);
+        if (f[k] > f[largest]) largest = k;
+      }
+      // Make the float sum 1 to within half an ulp: the largest weight takes the remainder.
+      double rest = 0;
+      for (int k = 0; k < 4; ++k)
+        if (k != largest) rest += f[k];
+      f[largest] = static_cast<float>(1.0 - rest);
+      for (int k = 0; k < 4; ++k) {
+        joints[4 * v + k] = f[k] > 0 ? static_cast<std::uint16_t>(j[k]) : 0;
+        weights[4 * v + k] = f[k] > 0 ? f[k] : 0.0f;
+      }
+    }
+    if (merged > 0)
+      warnings_.push_back(label + ": " + std::to_string(merged) +
+                          " vertices listed a joint twice; their weights were merged");
+
+    std::size_t begin = begin_view();
+    for (std::uint16_t j : joints) put_u16(j);
+    int view = end_view(begin, TINYGLTF_TARGET_ARRAY_BUFFER, 8);
+    prim.attributes["JOINTS_0"] =
+        add_accessor(view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, static_cast<std::size_t>(nv));
+    prim.attributes["WEIGHTS_0"] = add_float_accessor(weights.data(), static_cast<std::size_t>(nv), 4,
+                                                      TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+
+    // Inverse bind matrices, column-major, last row exactly (0 0 0 1).
+    begin = begin_view();
+    bool projective = false;
+    for (const Eigen::Matrix4d& ibm : s.inverse_bind) {
+      if (!ibm.allFinite()) invalid(label + ": an inverse bind matrix has NaN or infinite entries");
+      projective = projective || (ibm.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-6;
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) put_f32(r == 3 ? (c == 3 ? 1.0f : 0.0f) : static_cast<float>(ibm(r, c)));
+    }
+    if (projective)
+      warnings_.push_back(label +
+                          ": an inverse bind matrix had a last row other than (0 0 0 1); it was set to (0 0 0 1)");
+    view = end_view(begin, 0, 0);
+    tinygltf::Skin skin;
+    skin.name = m.name;
+    skin.inverseBindMatrices = add_accessor(view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, np);
+    skin.joints = s.palette;
+    int root = s.palette.front();
+    for (int j : s.palette) root = root < 0 ? -1 : common_ancestor(root, j);
+    skin.skeleton = root >= 0 ? root : synthetic_root();
+    gm_.skins.push_back(std::move(skin));
+    return static_cast<int>(gm_.skins.size()) - 1;
+  }
+
+  // ---- animations ---------------------------------------------------------------------------
+
+  void add_clip(const anim::Clip& clip, std::size_t index) {
+    const std::string label = "clip " + std::to_string(index) + " ('" + clip.name + "')";
+    tinygltf::Animation a;
+    a.name = clip.name;
+    std::set<std::pair<int, ChannelPath>> targets;
+    for (const Channel& ch : clip.channels) {
+      if (ch.times.empty()) continue;
+      if (ch.joint < 0 || ch.joint >= skeleton_size())
+        invalid(label + " has a channel on joint " + std::to_string(ch.joint) + " outside the skeleton of " +
+                std::to_string(skeleton_size()) + " joints");
+      if (!targets.insert({ch.joint, ch.path}).second)
+        invalid(label + " has two channels on the same path of joint '" +
+                std::string(model_.skeleton.names()[ch.joint]) + "'");
+      add_channel(a, ch, label);
+    }
+    if (a.channels.empty()) {
+      warnings_.push_back(label + " has no keys; not written");
+      return;
+    }
+    gm_.animations.push_back(std::move(a));
+  }
+
+  void add_channel(tinygltf::Animation& a, const Channel& ch, const std::string& label) {
+    const std::size_t keys = ch.times.size();
+    const int comps = ch.components();
+    const std::string what = label + ", channel on joint '" + std::string(model_.skeleton.names()[ch.joint]) + "'";
+    Interpolation interp = ch.interpolation;
+    const std::size_t per_key = static_cast<std::size_t>(comps) * (interp == Interpolation::cubic_spline ? 3 : 1);
+    if (ch.values.size() != keys * per_key)
+      invalid(what + " has " + std::to_string(ch.values.size()) + " values for " + std::to_string(keys) +
+              " keys (expected " + std::to_string(keys * per_key) + ")");
+
+    std::vector<float> times(keys);
+    for (std::size_t k = 0; k < keys; ++k) {
+      if (!finite(ch.times[k]) || ch.times[k] < 0) invalid(what + " has a negative, NaN or infinite key time");
+      times[k] = static_cast<float>(ch.times[k]);
+      if (k > 0 && !(times[k] > times[k - 1]))
+        invalid(what + " has key times that are not strictly increasing (in float precision)");
+    }
+    for (double v : ch.values)
+      if (!finite(v)) invalid(what + " has a NaN or infinite key value");
+
+    // Values in the glTF layout; for a single cubic key keep only the value, as STEP.
+    std::vector<float> out;
+    std::size_t offset = 0, stride = per_key;
+    if (interp == Interpolation::cubic_spline && keys == 1) {
+      interp = Interpolation::step;
+      offset = static_cast<std::size_t>(comps);
+      warnings_.push_back(what + " is CUBICSPLINE with a single key; written as STEP");
+    }
+    const std::size_t out_per_key = interp == Interpolation::cubic_spline ? per_key : static_cast<std::size_t>(comps);
+    out.reserve(keys * out_per_key);
+    for (std::size_t k = 0; k < keys; ++k) {
+      const std::size_t base = k * stride + offset;
+      for (std::size_t e = 0; e < out_per_key; e += static_cast<std::size_t>(comps)) {
+        const double* v = ch.values.data() + base + e;
+        // The value of a cubic key is its middle element; tangents are not normalised.
+        const bool is_value = interp != Interpolation::cubic_spline || e == static_cast<std::size_t>(comps);
+        double scale = 1;
+        if (ch.path == ChannelPath::rotation && is_value) {
+          const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
+          if (!(len > 0)) invalid(what + " has a zero rotation key");
+          scale = 1 / len;
+        }
+        for (int c = 0; c < comps; ++c) out.push_back(static_cast<float>(v[c] * scale));
+      }
+    }
+
+    tinygltf::AnimationSampler sampler;
+    sampler.input = add_float_accessor(times.data(), keys, 1, TINYGLTF_TYPE_SCALAR, 0, true);
+    sampler.output = add_float_accessor(out.data(), out.size() / static_cast<std::size_t>(comps), comps,
+                                        comps == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, 0, false);
+    sampler.interpolation = interp == Interpolation::step     ? "STEP"
+                            : interp == Interpolation::linear ? "LINEAR"
+                                                              : "CUBICSPLINE";
+    a.samplers.push_back(std::move(sampler));
+    tinygltf::AnimationChannel channel;
+    channel.sampler = static_cast<int>(a.samplers.size()) - 1;
+    channel.target_node = ch.joint;
+    channel.target_path = ch.path == ChannelPath::translation ? "translation"
+                          : ch.path == ChannelPath::rotation  ? "rotation"
+                                                              : "scale";
+    a.channels.push_back(std::move(channel));
+  }
+
+  const anim::RiggedModel& model_;
+  std::vector<std::string>& warnings_;
+  tinygltf::Model gm_;
+  std::vector<int> depth_;
+  std::vector<int> mesh_roots_;
+  int synthetic_root_ = -1;
+};
+
+/// Runs a JSON step, turning a JSON library error (a name that is not valid UTF-8) into
+/// InvalidInputError.
+template <class F>
+auto json_step(F&& f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InvalidInputError(std::string("write_gltf: cannot encode the model as JSON (names must be UTF-8): ") +
+                            e.what());
+  }
+}
+
+std::string serialize(const tinygltf::Model& gm, bool binary, bool pretty) {
+  return json_step([&] {
+    tinygltf::TinyGLTF writer;
+    std::ostringstream stream(std::ios::out | std::ios::binary);
+    if (!writer.WriteGltfSceneToStream(&gm, stream, pretty, binary) || !stream)
+      throw WriteError("write_gltf: tinygltf could not serialise the model");
+    return std::move(stream).str();
+  });
+}
+
+}  // namespace
+
+std::vector<std::string> write_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
+                                    const GltfWriteOptions& options) {
+  const std::string ext = lower(out.extension().string());
+  if (ext != ".glb" && ext != ".gltf")
+    throw InvalidInputError("write_gltf: unknown extension '" + out.extension().string() + "' of '" + out.string() +
+                            "' (expected .glb or .gltf)");
+  std::vector<std::string> warnings;
+  tinygltf::Model gm = Builder(model, warnings).run();
+
+  if (ext == ".glb") {
+    const std::string bytes = serialize(gm, true, false);
+    write_file_atomically(out, bytes);
+  } else if (options.embed_buffer) {
+    const std::string bytes = serialize(gm, false, options.pretty_json);
+    write_file_atomically(out, bytes);
+  } else {
+    // tinygltf's stream writer embeds buffers; write the JSON of a model with an empty buffer
+    // and point the buffer at the .bin written next to it.
+    const std::string bin_name = bin_file_name(out);
+    const fs::path bin_path = out.parent_path() / bin_name;
+    std::vector<unsigned char> bin = std::move(gm.buffers[0].data);
+    gm.buffers[0].data.clear();
+    const std::string text = json_step([&] {
+      nlohmann::json json = nlohmann::json::parse(serialize(gm, false, false));
+      json["buffers"][0] = {{"byteLength", bin.size()}, {"uri", bin_name}};
+      return json.dump(options.pretty_json ? 2 : -1) + "\n";
+    });
+    const OutputFile files[] = {
+        {bin_path, std::string_view(reinterpret_cast<const char*>(bin.data()), bin.size())},
+        {out, text},
+    };
+    write_files_atomically(files);
+  }
+  return warnings;
+}
+
+}  // namespace cgamesh::io
