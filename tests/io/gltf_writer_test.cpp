@@ -26,6 +26,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -39,33 +40,7 @@ using cgamesh::anim::Transform;
 using cgamesh::io::GltfWriteOptions;
 using cgamesh::io::write_gltf;
 
-/// A fresh empty directory, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / ("cgamesh_gltf_" + std::string(info->test_suite_name()) + "_" + info->name() +
-                                         "_" + std::to_string(reinterpret_cast<std::uintptr_t>(this)));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  [[nodiscard]] const fs::path& path() const { return path_; }
-  [[nodiscard]] std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
- private:
-  fs::path path_;
-};
+using cgamesh_test::TempDir;
 
 Transform trs(const Eigen::Vector3d& t, const Eigen::Quaterniond& r, const Eigen::Vector3d& s) {
   Transform x;

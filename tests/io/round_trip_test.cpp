@@ -1,0 +1,201 @@
+// Round trip: a model loaded by cgamesh, written as glTF (.glb, or .gltf + .bin) by write_gltf and
+// loaded back must pose exactly like the original: for every clip, at several times, with CGA
+// and matrix skinning, the world-space vertices of every mesh agree to 1e-5 of the bounding box
+// diagonal, with the same vertex and face counts (no seam merged). Every written file must pass
+// the Khronos glTF validator with no errors.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "anim/model_fixtures.hpp"
+#include "cgamesh/anim/pose.hpp"
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/io/gltf_writer.hpp"
+#include "cgamesh/io/model_loader.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace cgamesh;
+using anim::SkinningMode;
+
+/// A fresh empty directory, unique per process and instance, removed at the end.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("cgamesh_roundtrip_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+struct Case {
+  std::string label;  ///< test name suffix
+  fs::path path;
+  bool optional;  ///< from assimp-testmodels: skipped when not installed
+};
+
+std::vector<Case> cases() {
+  return {{"RiggedSimple", cgamesh_test::asset("RiggedSimple.glb"), false},
+          {"RiggedFigure", cgamesh_test::asset("RiggedFigure.glb"), false},
+          {"CesiumMan", cgamesh_test::demo_model(), false},
+          {"BCN_Epileptic_X", cgamesh_test::assimp_model("X/BCN_Epileptic.X"), true},
+          {"Testwuson_X", cgamesh_test::assimp_model("X/Testwuson.X"), true},
+          {"animation_with_skeleton_FBX", cgamesh_test::assimp_model("FBX/animation_with_skeleton.fbx"), true}};
+}
+
+/// World-space posed vertices of every mesh.
+std::vector<mesh::RowMatrixXf<3>> posed(const anim::RiggedModel& m, const anim::Pose& pose, SkinningMode mode) {
+  const auto gv = anim::global_versors(m.skeleton, pose);
+  const auto gm = anim::global_matrices(m.skeleton, pose);
+  std::vector<mesh::RowMatrixXf<3>> out;
+  for (const mesh::Mesh& mesh : m.meshes) out.push_back(anim::skin(mesh, anim::make_palette(mesh, gv, gm, mode), 1));
+  return out;
+}
+
+/// Diagonal of the bounding box of all meshes.
+double diagonal(const std::vector<mesh::RowMatrixXf<3>>& meshes) {
+  Eigen::RowVector3f lo = Eigen::RowVector3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
+  for (const auto& m : meshes)
+    if (m.rows() > 0) {
+      lo = lo.cwiseMin(m.colwise().minCoeff());
+      hi = hi.cwiseMax(m.colwise().maxCoeff());
+    }
+  return static_cast<double>((hi - lo).norm());
+}
+
+/// Checks that `b` poses like `a` in `pose_a` / `pose_b`, mesh by mesh.
+void expect_same_positions(const anim::RiggedModel& a, const anim::Pose& pose_a, const anim::RiggedModel& b,
+                           const anim::Pose& pose_b, const std::string& what) {
+  for (SkinningMode mode : {SkinningMode::cga, SkinningMode::matrix}) {
+    const auto pa = posed(a, pose_a, mode), pb = posed(b, pose_b, mode);
+    const double tol = 1e-5 * diagonal(pa);
+    ASSERT_GT(tol, 0) << what;
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      ASSERT_EQ(pa[i].rows(), pb[i].rows());
+      const double worst = pa[i].rows() == 0 ? 0.0 : static_cast<double>((pa[i] - pb[i]).rowwise().norm().maxCoeff());
+      EXPECT_LE(worst, tol) << what << ", mesh " << i << " ('" << a.meshes[i].name << "'), "
+                            << (mode == SkinningMode::cga ? "cga" : "matrix") << " skinning";
+    }
+  }
+}
+
+void expect_round_trip(const anim::RiggedModel& a, const anim::RiggedModel& b) {
+  // Meshes in order, nothing merged or dropped.
+  ASSERT_EQ(a.meshes.size(), b.meshes.size());
+  for (std::size_t i = 0; i < a.meshes.size(); ++i) {
+    SCOPED_TRACE("mesh " + std::to_string(i) + " ('" + a.meshes[i].name + "')");
+    ASSERT_EQ(a.meshes[i].vertex_count(), b.meshes[i].vertex_count());
+    ASSERT_EQ(a.meshes[i].face_count(), b.meshes[i].face_count());
+    EXPECT_TRUE(a.meshes[i].faces == b.meshes[i].faces) << "faces differ";
+    EXPECT_EQ(a.meshes[i].skin.empty(), b.meshes[i].skin.empty());
+    EXPECT_EQ(a.meshes[i].normals.rows(), b.meshes[i].normals.rows());
+    EXPECT_EQ(a.meshes[i].uvs.rows(), b.meshes[i].uvs.rows());
+  }
+  expect_same_positions(a, anim::rest_pose(a.skeleton), b, anim::rest_pose(b.skeleton), "rest pose");
+
+  // The writer drops clips without keys; the others keep their order and names.
+  std::vector<const anim::Clip*> written;
+  for (const anim::Clip& c : a.clips)
+    if (std::any_of(c.channels.begin(), c.channels.end(), [](const anim::Channel& ch) { return !ch.times.empty(); }))
+      written.push_back(&c);
+  ASSERT_EQ(b.clips.size(), written.size());
+  for (std::size_t k = 0; k < written.size(); ++k) {
+    const anim::Clip& ca = *written[k];
+    const int index = b.clips[k].name == ca.name ? static_cast<int>(k) : b.find_clip(ca.name);
+    ASSERT_GE(index, 0) << "clip '" << ca.name << "' is missing after the round trip";
+    const anim::Clip& cb = b.clips[static_cast<std::size_t>(index)];
+    EXPECT_NEAR(cb.duration, ca.duration, 1e-6 * std::max(1.0, ca.duration)) << ca.name;
+    for (double t : {0.0, 0.3, 0.77, ca.duration}) {
+      const anim::Pose pa = anim::sample(a.skeleton, ca, t, anim::BlendMode::format);
+      const anim::Pose pb = anim::sample(b.skeleton, cb, t, anim::BlendMode::format);
+      expect_same_positions(a, pa, b, pb, "clip '" + ca.name + "' at t=" + std::to_string(t));
+    }
+  }
+}
+
+bool validator_available() {
+  const fs::path js(CGAMESH_JS_ORACLES);
+  return fs::exists(js / "validate_gltf.mjs") && fs::exists(js / "node_modules" / "gltf-validator") &&
+         std::system("node --version > /dev/null 2>&1") == 0;
+}
+
+/// Runs the Khronos validator on `file`; returns its exit status and puts its output in `log`.
+int validate(const fs::path& file, const fs::path& log_file, std::string& log) {
+  const std::string cmd = "node \"" + (fs::path(CGAMESH_JS_ORACLES) / "validate_gltf.mjs").string() + "\" \"" +
+                          file.string() + "\" > \"" + log_file.string() + "\" 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log_file);
+  std::stringstream text;
+  text << in.rdbuf();
+  log = text.str();
+  fs::remove(log_file);
+  return status;
+}
+
+class RoundTrip : public ::testing::TestWithParam<Case> {};
+
+TEST_P(RoundTrip, PosesLikeTheOriginalThroughGlbAndGltf) {
+  const Case& c = GetParam();
+  if (c.optional && !fs::exists(c.path)) GTEST_SKIP() << c.path << " is not installed (assimp-testmodels)";
+  const anim::RiggedModel original = io::load_model(c.path);
+  ASSERT_FALSE(original.meshes.empty());
+  ScratchDir dir;
+  // A space in the .gltf name: its buffer goes to "round_trip.bin".
+  for (const char* name : {"round_trip.glb", "round trip.gltf"}) {
+    SCOPED_TRACE(c.path.string() + " -> " + name);
+    const fs::path out = dir.path() / name;
+    (void)io::write_gltf(original, out);
+    ASSERT_TRUE(fs::exists(out));
+    if (out.extension() == ".gltf") {
+      ASSERT_TRUE(fs::exists(dir.path() / "round_trip.bin"));
+    }
+    const anim::RiggedModel reloaded = io::load_model(out);
+    expect_round_trip(original, reloaded);
+  }
+}
+
+TEST_P(RoundTrip, WrittenFilesPassTheKhronosValidator) {
+  const Case& c = GetParam();
+  if (c.optional && !fs::exists(c.path)) GTEST_SKIP() << c.path << " is not installed (assimp-testmodels)";
+  if (!validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
+  const anim::RiggedModel original = io::load_model(c.path);
+  ScratchDir dir;
+  for (const char* name : {"model.glb", "model.gltf"}) {
+    const fs::path out = dir.path() / name;
+    (void)io::write_gltf(original, out);
+    std::string log;
+    const int status = validate(out, dir.path() / "validator.log", log);
+    EXPECT_EQ(status, 0) << c.path << " -> " << name << ":\n" << log;
+    EXPECT_NE(log.find(" 0 error(s)"), std::string::npos) << c.path << " -> " << name << ":\n" << log;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, RoundTrip, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<Case>& info) { return info.param.label; });
+
+}  // namespace
