@@ -1,6 +1,7 @@
 #include "model_commands.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -24,6 +25,7 @@ namespace {
 using anim::BlendMode;
 using anim::SkinningMode;
 using Json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
 
 const std::map<std::string, BlendMode> kBlendModes{
     {"format", BlendMode::format}, {"linear", BlendMode::linear}, {"log", BlendMode::log}};
@@ -187,7 +189,25 @@ void run_pose(const PoseOptions& o) {
   anim::Pose pose = clip < 0 ? anim::rest_pose(model.skeleton) : anim::sample(model.skeleton, model.clips[clip], o.time, o.blend);
   anim::apply_edits(pose, edits);
   const auto positions = posed_positions(model, pose, o.skinning);
-  io::write_mesh(model.meshes, positions, o.output);
+  const std::string ext = fs::path(o.output).extension().string();
+  if (ext == ".glb" || ext == ".gltf" || ext == ".GLB" || ext == ".GLTF") {
+    // The posed frame as a static glTF: world-space positions, no skin, one root node.
+    anim::RiggedModel frame;
+    anim::EditableSkeleton root;
+    root.joints.push_back({"root", -1, {}});
+    frame.skeleton = anim::Skeleton::build(root);
+    for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+      mesh::Mesh m = model.meshes[i];
+      m.positions = positions[i];
+      m.normals.resize(0, 3);  // rest-pose normals do not fit the posed positions
+      m.skin = {};
+      m.node = -1;
+      frame.meshes.push_back(std::move(m));
+    }
+    io::write_gltf(frame, o.output);
+  } else {
+    io::write_mesh(model.meshes, positions, o.output);
+  }
   if (o.json) {
     Json out = {{"output", o.output}, {"animation", clip < 0 ? Json(nullptr) : Json(model.clips[clip].name)},
                 {"time", o.time}, {"meshes", model.meshes.size()}};
@@ -254,9 +274,9 @@ void add_info(CLI::App& app) {
 
 void add_pose(CLI::App& app) {
   auto o = std::make_shared<PoseOptions>();
-  CLI::App* sub = app.add_subcommand("pose", "Write the world-space posed geometry of all meshes (OBJ or PLY)");
+  CLI::App* sub = app.add_subcommand("pose", "Write the world-space posed geometry of all meshes (OBJ, PLY, or a static glTF)");
   sub->add_option("MODEL", o->model, "model file")->required();
-  sub->add_option("-o,--output", o->output, "output file: .obj or .ply")->required();
+  sub->add_option("-o,--output", o->output, "output file: .obj, .ply, .glb or .gltf")->required();
   sub->add_option("--anim", o->anim, "animation name or index (default: the first)");
   sub->add_option("--time", o->time, "seconds into the animation")->capture_default_str();
   sub->add_option("--blend", o->blend, "key blending: format, linear or log")

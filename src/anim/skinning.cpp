@@ -45,6 +45,29 @@ void for_each_influence(const Mesh& m, Eigen::Index i, F&& f) {
   }
 }
 
+/// Versor skinning: per vertex, blend the palette versors, renormalise, one sandwich.
+template <class V>
+void skin_blended(const Mesh& mesh, std::span<const V> palette, Eigen::Index begin, Eigen::Index end,
+                  RowMatrixXf<3>& out) {
+  for (Eigen::Index i = begin; i < end; ++i) {
+    V v;
+    const V* first = nullptr;
+    int count = 0;
+    for_each_influence(mesh, i, [&](int k, float w) {
+      const V& pk = palette[k];
+      if (!first) first = &pk;
+      ++count;
+      // V and -V are the same transform: blend on the side of the first influence.
+      v += (cga::scalar_product(*first, cga::reverse(pk)) < 0 ? -w : w) * pk;
+    });
+    // One influence (weight 1) is already a unit versor.
+    if (count > 1) v = cga::normalized(v);
+    const cga::Vector<float> y = cga::unit_sandwich(v, cga::up(Eigen::Vector3f(mesh.positions.row(i).transpose())));
+    const float inv = 1.0f / y.get<cga::blade::eo>();
+    out.row(i) << y[0] * inv, y[1] * inv, y[2] * inv;
+  }
+}
+
 }  // namespace
 
 SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
@@ -76,6 +99,14 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
       else p.dual_quats.push_back(dual_quaternion(m));
     }
   }
+  // Without dilations every palette versor is a motor: blend 8 coefficients instead of 16.
+  if (mode == SkinningMode::versor) {
+    const bool rigid = std::all_of(p.versors.begin(), p.versors.end(), [](const cga::Versor<float>& v) {
+      return cga::max_abs(cga::project<cga::kEvenBlades & ~cga::mask::motor>(v)) <= 1e-6f * cga::max_abs(v);
+    });
+    if (rigid)
+      for (const cga::Versor<float>& v : p.versors) p.motors.push_back(cga::project<cga::mask::motor>(v));
+  }
   return p;
 }
 
@@ -95,19 +126,8 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
       }
       return;
     case SkinningMode::versor:
-      for (Eigen::Index i = begin; i < end; ++i) {
-        cga::Versor<float> v;
-        const cga::Versor<float>* first = nullptr;
-        for_each_influence(mesh, i, [&](int k, float w) {
-          const cga::Versor<float>& pk = p.versors[k];
-          if (!first) first = &pk;
-          // V and -V are the same transform: blend on the side of the first influence.
-          v += (cga::scalar_product(*first, cga::reverse(pk)) < 0 ? -w : w) * pk;
-        });
-        const cga::Vector<float> y = cga::unit_sandwich(cga::normalized(v), cga::up(Eigen::Vector3f(rest.row(i).transpose())));
-        const float inv = 1.0f / y.get<cga::blade::eo>();
-        out.row(i) << y[0] * inv, y[1] * inv, y[2] * inv;
-      }
+      if (!p.motors.empty()) skin_blended(mesh, std::span(p.motors), begin, end, out);
+      else skin_blended(mesh, std::span(p.versors), begin, end, out);
       return;
     case SkinningMode::dqs:
       for (Eigen::Index i = begin; i < end; ++i) {

@@ -27,6 +27,7 @@ struct SkinningPalette {
   SkinningMode mode = SkinningMode::cga;
   std::vector<Eigen::Matrix<float, 3, 4>> affine;       ///< cga, matrix: x -> A x + b
   std::vector<cga::Versor<float>> versors;              ///< versor: M_n B_n
+  std::vector<cga::Motor<float>> motors;                ///< versor, when no joint dilates: M_n B_n
   std::vector<Eigen::Matrix<float, 8, 1>> dual_quats;   ///< dqs: real (x y z w), dual (x y z w)
 };
 

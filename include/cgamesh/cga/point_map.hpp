@@ -33,7 +33,7 @@ class PointMap {
   explicit PointMap(const Multivector<T, M>& v) {
     const Multivector<T, M> vi = versor_inverse(v);
     [&]<std::size_t... J>(std::index_sequence<J...>) {
-      ((matrix_.col(J) = column(project<mask::vector>(v * basis_blade<T, BladeIndex{1} << J>() * vi))), ...);
+      ((matrix_.col(J) = column(product_part<mask::vector>(v * basis_blade<T, BladeIndex{1} << J>(), vi))), ...);
     }(std::make_index_sequence<kDimension>{});
     // Rows/cols: 0..2 Euclidean, 3 einf, 4 eo. Affine when the x^2 (einf) column has no
     // Euclidean or eo part and the eo row depends on nothing but eo.
