@@ -132,7 +132,7 @@ TEST(Inverse, WellConditionedFloat) {
   // In float the degree-8 closed form loses ~cond^2 eps: test on well-conditioned inputs
   // (dominant scalar part), and compare with the double-precision inverse.
   Rng rng(0xe9a);
-  for (int k = 0; k < 200; ++k) {
+  for (int k = 0; k < 100; ++k) {
     const auto md = Dense<double>(3.0 + random_mv<Dense<double>>(rng, -0.3, 0.3));
     Dense<float> mf;
     for (std::size_t i = 0; i < kBladeCount; ++i) mf[i] = static_cast<float>(md[i]);
@@ -182,7 +182,7 @@ TEST(Inverse, NonInvertibleThrows) {
 
 TEST(Inverse, VersorInverseAgreesWithInverse) {
   Rng rng(0xf00);
-  for (int k = 0; k < 300; ++k) {
+  for (int k = 0; k < 150; ++k) {
     // Even TRS versors, with a random non-unit scale factor.
     const Similarity<double> sim = random_similarity<double>(rng);
     const Versor<double> v = sim.versor() * rng.uniform(0.5, 2.0);

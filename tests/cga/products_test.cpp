@@ -207,14 +207,14 @@ void check_all_pairs(Rng& rng, int cases, TypeList<As...> list) {
 
 TEST(SparseProducts, AllPairsMatchDenseDouble) {
   Rng rng(0x5eed0001);
-  check_all_pairs(rng, 8, SparseTypes<double>{});  // 121 pairs x 8 cases x 7 products
+  check_all_pairs(rng, 5, SparseTypes<double>{});  // 121 pairs x 5 cases x 8 checks
 }
 
 TEST(SparseProducts, SomePairsMatchDenseFloat) {
   Rng rng(0x5eed0002);
-  check_row<Motor<float>>(rng, 8, TypeList<Vector<float>, Motor<float>, Versor<float>, Trivector<float>>{});
-  check_row<Versor<float>>(rng, 8, TypeList<Vector<float>, Bivector<float>, Versor<float>, Quadvector<float>>{});
-  check_row<Translator<float>>(rng, 8, TypeList<Rotor<float>, Translator<float>, Dilator<float>>{});
+  check_row<Motor<float>>(rng, 5, TypeList<Vector<float>, Motor<float>, Versor<float>, Trivector<float>>{});
+  check_row<Versor<float>>(rng, 5, TypeList<Vector<float>, Bivector<float>, Versor<float>, Quadvector<float>>{});
+  check_row<Translator<float>>(rng, 5, TypeList<Rotor<float>, Translator<float>, Dilator<float>>{});
 }
 
 TEST(SparseProducts, ProductDenseTimesDenseIsBilinear) {
