@@ -1,5 +1,7 @@
 #include "model_commands.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -189,8 +191,9 @@ void run_pose(const PoseOptions& o) {
   anim::Pose pose = clip < 0 ? anim::rest_pose(model.skeleton) : anim::sample(model.skeleton, model.clips[clip], o.time, o.blend);
   anim::apply_edits(pose, edits);
   const auto positions = posed_positions(model, pose, o.skinning);
-  const std::string ext = fs::path(o.output).extension().string();
-  if (ext == ".glb" || ext == ".gltf" || ext == ".GLB" || ext == ".GLTF") {
+  std::string ext = fs::path(o.output).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".glb" || ext == ".gltf") {
     // The posed frame as a static glTF: world-space positions, no skin, one root node.
     anim::RiggedModel frame;
     anim::EditableSkeleton root;

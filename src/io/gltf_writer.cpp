@@ -165,6 +165,7 @@ class Builder {
       if (p >= 0) gm_.nodes[p].children.push_back(j);
     }
     depth_.resize(static_cast<std::size_t>(sk.size()));
+    static_children_.assign(static_cast<std::size_t>(sk.size()), 0);
     for (int j = 0; j < sk.size(); ++j) depth_[j] = sk.parents()[j] < 0 ? 0 : depth_[sk.parents()[j]] + 1;
   }
 
@@ -243,7 +244,10 @@ class Builder {
       if (m.node < 0 || m.node >= skeleton_size())
         invalid(label + " hangs from node " + std::to_string(m.node) + " outside the skeleton of " +
                 std::to_string(skeleton_size()) + " joints");
-      gm_.nodes[m.node].children.push_back(node_index);
+      // Before the joint's own children, in model order: a reader walking the hierarchy depth
+      // first (Assimp, cgamesh's loader) then meets the static meshes in the model's order.
+      auto& children = gm_.nodes[m.node].children;
+      children.insert(children.begin() + static_children_[m.node]++, node_index);
     }
   }
 
@@ -468,6 +472,7 @@ class Builder {
   tinygltf::Model gm_;
   std::vector<int> depth_;
   std::vector<int> mesh_roots_;
+  std::vector<int> static_children_;  ///< per joint: static mesh nodes placed among its children
   int synthetic_root_ = -1;
 };
 

@@ -213,8 +213,16 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
   Assimp::Importer importer;
   // Vertices on different joints, normals or UVs must stay apart: no JoinIdenticalVertices.
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
-  if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == nullptr)
-    throw FileError("cannot load '" + path.string() + "': " + importer.GetErrorString());
+  if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == nullptr) {
+    // For a corrupt or truncated file of a format it reads, Assimp may only say that no reader
+    // suits it: say what the file is not.
+    const std::string error = importer.GetErrorString(), ext = path.extension().string();
+    const bool no_reader = error.find("No suitable reader") != std::string::npos;
+    const std::string what = no_reader && !ext.empty() && importer.IsExtensionSupported(ext)
+                                 ? "not a valid " + ext + " file (corrupt, truncated or of another format): "
+                                 : std::string();
+    throw FileError("cannot load '" + path.string() + "': " + what + error);
+  }
   try {
     return Loader(*scene, options).run();
   } catch (const FileError&) {

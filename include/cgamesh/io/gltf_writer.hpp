@@ -32,7 +32,9 @@ struct GltfWriteOptions {
 ///  - a skinned mesh's node is a scene root without transform, with one skin per mesh: joints =
 ///    the palette's nodes, inverseBindMatrices (last row exactly 0 0 0 1), skeleton = the
 ///    joints' lowest common ancestor. A static mesh's node is a child of node `mesh.node`
-///    (without transform), or a scene root when `mesh.node` is -1.
+///    (without transform; static meshes come first among its children, in model order, so a
+///    depth-first reader such as load_model() meets them in the model's order), or a scene root
+///    when `mesh.node` is -1.
 ///  - one animation per clip that has a non-empty channel; one sampler per non-empty channel
 ///    (FLOAT times with min/max; VEC3/VEC4 outputs in the glTF layout, rotations renormalised).
 ///    A CUBICSPLINE channel with a single key is written as STEP (with a warning).

@@ -1,0 +1,436 @@
+// The `cgamesh` command-line tool, run as a process: JSON summaries, posed geometry in every
+// skinning mode, edits, conversion and keyframe generation, and bad input (exit codes, a
+// message on stderr, and no output file or temporary file left behind).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "anim/model_fixtures.hpp"
+#include "apps/cli_util.hpp"
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/io/model_loader.hpp"
+
+namespace {
+
+using namespace cgamesh_cli_test;
+using Json = nlohmann::json;
+
+const fs::path kFbx = cgamesh_test::assimp_model("FBX/animation_with_skeleton.fbx");
+const fs::path kX = cgamesh_test::assimp_model("X/BCN_Epileptic.X");
+
+fs::path cesium() { return cgamesh_test::demo_model(); }
+
+/// The joint of CesiumMan that the most vertices hang from (their largest weight).
+std::string busiest_joint() {
+  static const std::string name = [] {
+    const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(cesium());
+    const cgamesh::mesh::Mesh& mesh = m.meshes.at(0);
+    std::vector<int> count(mesh.skin.palette.size(), 0);
+    for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) ++count[mesh.skin.joints(v, 0)];
+    const auto best = std::max_element(count.begin(), count.end()) - count.begin();
+    return std::string(m.skeleton.names()[mesh.skin.palette[static_cast<std::size_t>(best)]]);
+  }();
+  return name;
+}
+
+Json parse_json(const Result& r) {
+  try {
+    return Json::parse(r.out);
+  } catch (const Json::exception& e) {
+    ADD_FAILURE() << "stdout is not JSON (" << e.what() << "):\n" << r;
+    return Json::object();
+  }
+}
+
+/// Runs the command and expects exit code 0.
+Result run_ok(const ScratchDir& dir, const std::vector<std::string>& args) {
+  Result r = run_cli(args, dir.path());
+  EXPECT_EQ(r.code, 0) << r;
+  return r;
+}
+
+/// `pose` into dir/NAME, returning its vertices.
+Points pose_obj(const ScratchDir& dir, const fs::path& model, const std::string& name, std::vector<std::string> extra) {
+  std::vector<std::string> args{"pose", model.string(), "-o", (dir / name).string()};
+  args.insert(args.end(), extra.begin(), extra.end());
+  run_ok(dir, args);
+  EXPECT_TRUE(fs::exists(dir / name)) << name;
+  std::string ext = fs::path(name).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".ply" ? read_ply_vertices(dir / name) : read_obj_vertices(dir / name);
+}
+
+bool validator_available() {
+  const fs::path js(CGAMESH_JS_ORACLES);
+  return fs::exists(js / "validate_gltf.mjs") && fs::exists(js / "node_modules" / "gltf-validator") &&
+         std::system("node --version > /dev/null 2>&1") == 0;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// ---- info -------------------------------------------------------------------------------------
+
+TEST(CliInfo, JsonSummaryOfCesiumMan) {
+  ScratchDir dir;
+  const Result r = run_ok(dir, {"info", cesium().string(), "--json"});
+  const Json j = parse_json(r);
+  ASSERT_TRUE(j.is_object()) << r;
+  ASSERT_TRUE(j["meshes"].is_array());
+  ASSERT_EQ(j["meshes"].size(), 1u);
+  EXPECT_EQ(j["meshes"][0]["vertices"], 3273);
+  EXPECT_EQ(j["meshes"][0]["triangles"], 4672);
+  EXPECT_EQ(j["meshes"][0]["skinned"], true);
+  EXPECT_EQ(j["vertices"], 3273);
+  EXPECT_EQ(j["triangles"], 4672);
+  ASSERT_TRUE(j["joints"].is_number_integer());
+  EXPECT_GE(j["joints"].get<int>(), 19);  // the skin's 19 joints and the nodes above them
+  ASSERT_TRUE(j["animations"].is_array());
+  ASSERT_EQ(j["animations"].size(), 1u);
+  EXPECT_TRUE(j["animations"][0]["name"].is_string());
+  EXPECT_NEAR(j["animations"][0]["duration"].get<double>(), 2.0, 1e-6);
+  EXPECT_EQ(j["max_influences"], 4);
+  const Json& box = j["bounding_box"];
+  ASSERT_TRUE(box["min"].is_array() && box["max"].is_array());
+  ASSERT_EQ(box["min"].size(), 3u);
+  ASSERT_EQ(box["max"].size(), 3u);
+  // CesiumMan stands 1.5 m tall along +y (the glTF up axis), feet at 0.
+  EXPECT_NEAR(box["min"][1].get<double>(), 0.0, 1e-3);
+  EXPECT_NEAR(box["max"][1].get<double>(), 1.5065, 1e-3);
+  for (int c = 0; c < 3; ++c) EXPECT_LT(box["min"][c].get<double>(), box["max"][c].get<double>());
+  ASSERT_TRUE(j["warnings"].is_array());
+  EXPECT_TRUE(j["warnings"].empty()) << j["warnings"].dump();
+}
+
+TEST(CliInfo, JsonWarningsOfTheFbx) {
+  if (!fs::exists(kFbx)) GTEST_SKIP() << kFbx << " is not installed (assimp-testmodels)";
+  ScratchDir dir;
+  const Json j = parse_json(run_ok(dir, {"info", kFbx.string(), "--json"}));
+  EXPECT_EQ(j["max_influences"], 6);
+  bool scale = false, influences = false;
+  for (const Json& w : j["warnings"]) {
+    scale |= contains(w.get<std::string>(), "non-uniform scale");
+    influences |= contains(w.get<std::string>(), "more than 4 influences");
+  }
+  EXPECT_TRUE(scale) << j["warnings"].dump(2);
+  EXPECT_TRUE(influences) << j["warnings"].dump(2);
+}
+
+// ---- pose -------------------------------------------------------------------------------------
+
+TEST(CliPose, CgaAndMatrixSkinningWriteTheSameVertices) {
+  ScratchDir dir;
+  const Points cga = pose_obj(dir, cesium(), "cga.obj", {"--time", "0.5", "--skinning", "cga"});
+  const Points matrix = pose_obj(dir, cesium(), "matrix.obj", {"--time", "0.5", "--skinning", "matrix"});
+  ASSERT_EQ(cga.rows(), 3273);
+  ASSERT_EQ(matrix.rows(), 3273);
+  EXPECT_LE(max_distance(cga, matrix), 1e-5 * diagonal(matrix));
+  // The other two modes differ from linear blend skinning only where joints bend.
+  const Points versor = pose_obj(dir, cesium(), "versor.obj", {"--time", "0.5", "--skinning", "versor"});
+  const Points dqs = pose_obj(dir, cesium(), "dqs.obj", {"--time", "0.5", "--skinning", "DQS"});
+  EXPECT_LE(max_distance(versor, dqs), 1e-5 * diagonal(matrix));
+  EXPECT_LE(max_distance(versor, matrix), 0.05 * diagonal(matrix));
+  EXPECT_GT(max_distance(versor, matrix), 1e-3 * diagonal(matrix));  // --skinning is not ignored
+}
+
+TEST(CliPose, BindPoseDiffersFromTheAnimation) {
+  ScratchDir dir;
+  const Points animated = pose_obj(dir, cesium(), "t.obj", {"--time", "0.5"});
+  const Points bind = pose_obj(dir, cesium(), "bind.obj", {"--bind-pose"});
+  ASSERT_EQ(bind.rows(), animated.rows());
+  EXPECT_GT(max_distance(bind, animated), 1e-2 * diagonal(bind));
+  // The bind pose is the box `info` reports.
+  const Json info = parse_json(run_ok(dir, {"info", cesium().string(), "--json"}));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(bind.col(c).minCoeff(), info["bounding_box"]["min"][c].get<double>(), 1e-6);
+    EXPECT_NEAR(bind.col(c).maxCoeff(), info["bounding_box"]["max"][c].get<double>(), 1e-6);
+  }
+}
+
+TEST(CliPose, PlyHoldsTheSameVerticesAsObj) {
+  ScratchDir dir;
+  const Points obj = pose_obj(dir, cesium(), "p.obj", {"--time", "0.5"});
+  const Points ply = pose_obj(dir, cesium(), "p.PLY", {"--time", "0.5"});
+  ASSERT_EQ(ply.rows(), obj.rows());
+  EXPECT_LE(max_distance(obj, ply), 1e-6 * diagonal(obj));  // OBJ prints 9 digits: exact floats
+}
+
+TEST(CliPose, EditsChangeTheOutput) {
+  ScratchDir dir;
+  const std::string j = busiest_joint();
+  const Points plain = pose_obj(dir, cesium(), "plain.obj", {"--time", "0.5"});
+  const double diag = diagonal(plain);
+  const Points rotated = pose_obj(dir, cesium(), "r.obj", {"--time", "0.5", "--set", j + ":rotate=0,0,1,30"});
+  const Points moved = pose_obj(dir, cesium(), "t.obj", {"--time", "0.5", "--set", j + ":translate=0.1,0,0"});
+  const Points scaled = pose_obj(dir, cesium(), "s.obj", {"--time", "0.5", "--set", j + ":scale=2"});
+  const Points both = pose_obj(dir, cesium(), "b.obj",
+                               {"--time", "0.5", "--set", j + ":rotate=0,0,1,30", "--set", j + ":translate=0.1,0,0"});
+  for (const Points* p : {&rotated, &moved, &scaled, &both}) {
+    ASSERT_EQ(p->rows(), plain.rows());
+    EXPECT_GT(max_distance(*p, plain), 1e-2 * diag);
+  }
+  EXPECT_GT(max_distance(both, rotated), 1e-2 * diag);
+  EXPECT_GT(max_distance(both, moved), 1e-2 * diag);
+  // An identity edit changes nothing.
+  const Points identity = pose_obj(dir, cesium(), "i.obj", {"--time", "0.5", "--set", j + ":scale=1"});
+  EXPECT_LE(max_distance(identity, plain), 1e-5 * diag);
+}
+
+TEST(CliPose, EveryBlendModeRuns) {
+  ScratchDir dir;
+  std::vector<Points> out;
+  for (const char* blend : {"format", "linear", "log"}) {
+    out.push_back(pose_obj(dir, cesium(), std::string(blend) + ".obj", {"--time", "0.77", "--blend", blend}));
+    ASSERT_EQ(out.back().rows(), 3273) << blend;
+  }
+  // CesiumMan's keys are dense: the three blends of its clip agree closely.
+  const double diag = diagonal(out[0]);
+  EXPECT_LE(max_distance(out[0], out[1]), 1e-3 * diag);
+  EXPECT_LE(max_distance(out[0], out[2]), 1e-3 * diag);
+
+  // Two keys far apart (a 90 degree turn and a scale by 3 in one second) tell them apart: slerp
+  // and a linear scale (format), nlerp of the versors (linear), slerp and a geometric scale (log).
+  const std::string j = busiest_joint();
+  const fs::path two_keys = dir / "two_keys.glb";
+  run_ok(dir, {"animate", cesium().string(), "-o", two_keys.string(), "--key", "0:" + j + ":scale=1", "--key",
+               "1:" + j + ":rotate=0,0,1,90", "--key", "1:" + j + ":scale=3", "--fps", "1"});
+  std::vector<Points> mid;
+  for (const char* blend : {"format", "linear", "log"})
+    mid.push_back(pose_obj(dir, two_keys, std::string("mid_") + blend + ".obj",
+                           {"--anim", "generated", "--time", "0.3", "--blend", blend}));
+  EXPECT_GT(max_distance(mid[0], mid[1]), 1e-3 * diag);
+  EXPECT_GT(max_distance(mid[0], mid[2]), 1e-3 * diag);
+  EXPECT_GT(max_distance(mid[1], mid[2]), 1e-3 * diag);
+}
+
+TEST(CliPose, StaticGltfFrameHoldsThePosedVertices) {
+  ScratchDir dir;
+  const Points obj = pose_obj(dir, cesium(), "frame.obj", {"--time", "0.5"});
+  for (const char* frame : {"frame.glb", "frame.gltf"}) {
+    SCOPED_TRACE(frame);
+    run_ok(dir, {"pose", cesium().string(), "-o", (dir / frame).string(), "--time", "0.5"});
+    const Json info = parse_json(run_ok(dir, {"info", (dir / frame).string(), "--json"}));
+    EXPECT_TRUE(info["animations"].empty()) << info.dump(2);
+    EXPECT_EQ(info["meshes"][0]["skinned"], false);
+    // Static: its bind pose is the posed frame.
+    const Points again = pose_obj(dir, dir / frame, std::string(frame) + ".obj", {"--bind-pose"});
+    ASSERT_EQ(again.rows(), obj.rows());
+    EXPECT_LE(max_distance(again, obj), 1e-6 * diagonal(obj));
+  }
+  EXPECT_TRUE(fs::exists(dir / "frame.bin"));
+}
+
+// ---- convert ----------------------------------------------------------------------------------
+
+TEST(CliConvert, ConvertedModelPosesLikeTheInput) {
+  std::vector<fs::path> models{cesium()};
+  if (fs::exists(kX)) models.push_back(kX);
+  for (const fs::path& model : models) {
+    SCOPED_TRACE(model.string());
+    ScratchDir dir;
+    run_ok(dir, {"convert", model.string(), "-o", (dir / "out.glb").string()});
+    ASSERT_TRUE(fs::exists(dir / "out.glb"));
+    const Points original = pose_obj(dir, model, "original.obj", {"--time", "0.3"});
+    const Points converted = pose_obj(dir, dir / "out.glb", "converted.obj", {"--time", "0.3"});
+    ASSERT_GT(original.rows(), 0);
+    ASSERT_EQ(converted.rows(), original.rows());
+    EXPECT_LE(max_distance(original, converted), 1e-5 * diagonal(original));
+    // And the time matters (the clip came along).
+    const Points later = pose_obj(dir, dir / "out.glb", "later.obj", {"--time", "0.9"});
+    EXPECT_GT(max_distance(later, converted), 1e-3 * diagonal(original));
+  }
+}
+
+// ---- animate ----------------------------------------------------------------------------------
+
+TEST(CliAnimate, GeneratedClipIsWrittenAndValid) {
+  ScratchDir dir;
+  const std::string j = busiest_joint();
+  const fs::path out = dir / "out.glb";
+  run_ok(dir, {"animate", cesium().string(), "-o", out.string(), "--key", "0:" + j + ":rotate=1,0,0,0", "--key",
+               "1:" + j + ":rotate=1,0,0,60", "--blend", "linear", "--fps", "10"});
+  ASSERT_TRUE(fs::exists(out));
+  const Json info = parse_json(run_ok(dir, {"info", out.string(), "--json"}));
+  ASSERT_EQ(info["animations"].size(), 2u) << info.dump(2);
+  EXPECT_EQ(info["animations"][1]["name"], "generated");
+  EXPECT_NEAR(info["animations"][1]["duration"].get<double>(), 1.0, 1e-6);
+  EXPECT_NEAR(info["animations"][0]["duration"].get<double>(), 2.0, 1e-6);  // the original clip stays
+  EXPECT_EQ(info["vertices"], 3273);
+
+  // The new clip moves the mesh: at 1 s the joint is bent by 60 degrees, at 0 s not at all.
+  const Points start = pose_obj(dir, out, "start.obj", {"--anim", "generated", "--time", "0"});
+  const Points end = pose_obj(dir, out, "end.obj", {"--anim", "1", "--time", "1"});
+  const Points bind = pose_obj(dir, cesium(), "bind.obj", {"--bind-pose"});
+  EXPECT_LE(max_distance(start, bind), 1e-5 * diagonal(bind));
+  EXPECT_GT(max_distance(end, bind), 1e-2 * diagonal(bind));
+
+  if (!validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
+  const fs::path log = dir / "validator.log";
+  const std::string cmd = "node " + shell_quote((fs::path(CGAMESH_JS_ORACLES) / "validate_gltf.mjs").string()) + " " +
+                          shell_quote(out.string()) + " > " + shell_quote(log.string()) + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  const std::string text = read_file(log);
+  EXPECT_EQ(status, 0) << text;
+  EXPECT_TRUE(contains(text, " 0 error(s)")) << text;
+}
+
+// ---- bad input ----------------------------------------------------------------------------------
+
+/// Inputs in one directory, outputs in another that must stay empty after a failure.
+struct Failure {
+  ScratchDir inputs, outputs;
+};
+
+/// Runs a command that must fail with `code`, say something containing `message` on stderr, and
+/// leave the output directory empty (no output, no temporary file).
+void expect_failure(const Failure& f, const std::vector<std::string>& args, int code, const std::string& message,
+                    const fs::path& output) {
+  const Result r = run_cli(args, f.inputs.path());
+  EXPECT_EQ(r.code, code) << r;
+  EXPECT_FALSE(r.err.empty()) << r;
+  EXPECT_TRUE(contains(r.err, message)) << "stderr should mention '" << message << "'\n" << r;
+  EXPECT_FALSE(fs::exists(output)) << output;
+  EXPECT_TRUE(f.outputs.entries().empty()) << r << "\nleft in the output directory: " << f.outputs.entries().front();
+}
+
+TEST(CliErrors, TruncatedGlbIsBadInput) {
+  Failure f;
+  const std::string bytes = read_file(cesium()).substr(0, 3000);
+  { std::ofstream(f.inputs / "truncated.glb", std::ios::binary) << bytes; }
+  for (const char* cmd : {"info", "pose", "convert"}) {
+    SCOPED_TRACE(cmd);
+    const fs::path out = f.outputs / (std::string(cmd) == "pose" ? "out.obj" : "out.glb");
+    std::vector<std::string> args{cmd, (f.inputs / "truncated.glb").string()};
+    if (std::string(cmd) != "info") args.insert(args.end(), {"-o", out.string()});
+    expect_failure(f, args, 3, "'" + (f.inputs / "truncated.glb").string() + "': not a valid .glb file", out);
+  }
+}
+
+TEST(CliErrors, TextFileNamedGlbIsBadInput) {
+  Failure f;
+  { std::ofstream(f.inputs / "x.glb") << "this is a text file, not a model\n"; }
+  const fs::path out = f.outputs / "out.obj";
+  expect_failure(f, {"pose", (f.inputs / "x.glb").string(), "-o", out.string()}, 3,
+                 "'" + (f.inputs / "x.glb").string() + "': not a valid .glb file", out);
+}
+
+TEST(CliErrors, MissingFileIsBadInput) {
+  Failure f;
+  const fs::path out = f.outputs / "out.glb";
+  expect_failure(f, {"convert", (f.inputs / "missing.glb").string(), "-o", out.string()}, 3, "no such file", out);
+  expect_failure(f, {"info", (f.inputs / "missing.glb").string()}, 3, "missing.glb': no such file", out);
+}
+
+TEST(CliErrors, UnknownJointIsABadArgument) {
+  Failure f;
+  const fs::path out = f.outputs / "out.obj";
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", "no_such_joint:scale=2"}, 2,
+                 "unknown joint 'no_such_joint'", out);
+  const fs::path glb = f.outputs / "out.glb";
+  expect_failure(f,
+                 {"animate", cesium().string(), "-o", glb.string(), "--key", "0:no_such_joint:rotate=1,0,0,0", "--key",
+                  "1:no_such_joint:rotate=1,0,0,60"},
+                 2, "unknown joint 'no_such_joint'", glb);
+}
+
+TEST(CliErrors, NegativeScaleIsABadArgument) {
+  Failure f;
+  const fs::path out = f.outputs / "out.obj";
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":scale=-2"}, 2,
+                 "scale", out);
+}
+
+TEST(CliErrors, BadVectorIsABadArgument) {
+  Failure f;
+  const fs::path out = f.outputs / "out.obj";
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":rotate=1,2"}, 2,
+                 "rotate", out);
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":translate=1,x,2"},
+                 2, "'x' is not a number", out);
+}
+
+TEST(CliErrors, UnknownSkinningModeIsABadArgument) {
+  Failure f;
+  const fs::path out = f.outputs / "out.obj";
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--skinning", "bogus"}, 2, "bogus", out);
+}
+
+TEST(CliErrors, UnwritableOutputLeavesNothing) {
+  Failure f;
+  if (!fs::exists("/nonexistent")) {
+    const Result r = run_cli({"pose", cesium().string(), "-o", "/nonexistent/dir/out.obj"}, f.inputs.path());
+    EXPECT_NE(r.code, 0) << r;
+    EXPECT_TRUE(contains(r.err, "/nonexistent/dir")) << r;
+    EXPECT_FALSE(fs::exists("/nonexistent")) << r;
+  }
+  // A missing directory inside the output directory: nothing appears there either.
+  for (const char* name : {"out.obj", "out.ply", "out.glb", "out.gltf"}) {
+    const fs::path out = f.outputs / "missing" / name;
+    const bool mesh = fs::path(name).extension() == ".obj" || fs::path(name).extension() == ".ply";
+    const Result r = run_cli({mesh ? "pose" : "convert", cesium().string(), "-o", out.string()}, f.inputs.path());
+    EXPECT_NE(r.code, 0) << r;
+    EXPECT_TRUE(contains(r.err, "cannot write")) << r;
+    EXPECT_TRUE(f.outputs.entries().empty()) << r;
+  }
+  // The output path is a directory.
+  fs::create_directory(f.outputs / "taken.obj");
+  const Result r = run_cli({"pose", cesium().string(), "-o", (f.outputs / "taken.obj").string()}, f.inputs.path());
+  EXPECT_NE(r.code, 0) << r;
+  EXPECT_EQ(f.outputs.entries(), std::vector<std::string>{"taken.obj"}) << r;
+  EXPECT_TRUE(fs::is_empty(f.outputs / "taken.obj"));
+}
+
+TEST(CliErrors, UnknownOutputExtensionIsABadArgument) {
+  Failure f;
+  const fs::path out = f.outputs / "out.xyz";
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string()}, 2, ".xyz", out);
+  expect_failure(f, {"convert", cesium().string(), "-o", out.string()}, 2, ".xyz", out);
+}
+
+TEST(CliErrors, NoOutputIsOverwrittenOnFailure) {
+  Failure f;
+  const fs::path out = f.outputs / "out.obj";
+  { std::ofstream(out) << "previous"; }
+  const Result r = run_cli({"pose", cesium().string(), "-o", out.string(), "--set", "no_such_joint:scale=2"},
+                           f.inputs.path());
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(read_file(out), "previous");
+  EXPECT_EQ(f.outputs.entries(), std::vector<std::string>{"out.obj"});
+}
+
+// ---- algebra-demo -------------------------------------------------------------------------------
+
+TEST(CliAlgebraDemo, JsonPointAndMatrixAgree) {
+  ScratchDir dir;
+  const Json j = parse_json(run_ok(dir, {"algebra-demo", "--json"}));
+  const auto vec = [](const Json& v) { return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); };
+  ASSERT_TRUE(j.contains("point")) << j.dump(2);
+  const Eigen::Vector3d cga = vec(j["point"]["cga"]), matrix = vec(j["point"]["matrix"]), in = vec(j["point"]["in"]);
+  EXPECT_LE((cga - matrix).norm(), 1e-12);
+  EXPECT_GT((cga - in).norm(), 0.1);  // the versor moved the point
+  EXPECT_LE((vec(j["sphere"]["cga"]["center"]) - vec(j["sphere"]["matrix"]["center"])).norm(), 1e-12);
+  EXPECT_NEAR(j["sphere"]["cga"]["radius"].get<double>(), j["sphere"]["matrix"]["radius"].get<double>(), 1e-12);
+  EXPECT_LE((vec(j["plane"]["cga"]["normal"]) - vec(j["plane"]["matrix"]["normal"])).norm(), 1e-12);
+  EXPECT_NEAR(j["plane"]["cga"]["distance"].get<double>(), j["plane"]["matrix"]["distance"].get<double>(), 1e-12);
+  // Both blends start at the point and end where the versor takes it.
+  const Json& path = j["blend"];
+  ASSERT_GE(path.size(), 2u);
+  for (const char* kind : {"linear", "log"}) {
+    EXPECT_LE((vec(path.front()[kind]) - in).norm(), 1e-12) << kind;
+    EXPECT_LE((vec(path.back()[kind]) - cga).norm(), 1e-9) << kind;
+  }
+  // A different versor on the command line changes the answer, and still agrees.
+  const Json k = parse_json(run_ok(dir, {"algebra-demo", "--json", "--angle", "45", "--scale", "0.5"}));
+  EXPECT_LE((vec(k["point"]["cga"]) - vec(k["point"]["matrix"])).norm(), 1e-12);
+  EXPECT_GT((vec(k["point"]["cga"]) - cga).norm(), 0.1);
+}
+
+}  // namespace

@@ -1,0 +1,177 @@
+#pragma once
+// Running the built `cgamesh` binary from a test: its exit code, stdout and stderr, scratch
+// directories, and readers for the OBJ / PLY files it writes.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace cgamesh_cli_test {
+
+namespace fs = std::filesystem;
+
+/// The cgamesh executable built by CMake.
+inline fs::path cli_path() { return fs::path(CGAMESH_CLI); }
+
+/// A fresh empty directory, unique per process and instance, removed at the end.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() / ("cgamesh_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  [[nodiscard]] const fs::path& path() const { return path_; }
+  [[nodiscard]] fs::path operator/(const std::string& name) const { return path_ / name; }
+  /// Names of every entry (hidden ones included), sorted.
+  [[nodiscard]] std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+/// `text` quoted for /bin/sh.
+inline std::string shell_quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+inline std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Result {
+  int code = -1;    ///< exit status, or -1 when the process did not exit normally
+  std::string out;  ///< stdout
+  std::string err;  ///< stderr
+  std::string command;
+};
+
+inline std::ostream& operator<<(std::ostream& os, const Result& r) {
+  return os << "$ " << r.command << "\nexit " << r.code << "\nstdout:\n" << r.out << "\nstderr:\n" << r.err;
+}
+
+/// Runs `cgamesh ARGS...` through the shell; stdout through a pipe, stderr through a file in
+/// `err_dir` (removed afterwards).
+inline Result run_cli(const std::vector<std::string>& args, const fs::path& err_dir) {
+  static std::atomic<int> counter{0};
+  const fs::path err_file = err_dir / ("stderr_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".txt");
+  Result r;
+  r.command = shell_quote(cli_path().string());
+  for (const std::string& a : args) r.command += " " + shell_quote(a);
+  const std::string cmd = r.command + " 2> " + shell_quote(err_file.string());
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (pipe == nullptr) {
+    ADD_FAILURE() << "popen failed: " << std::strerror(errno);
+    return r;
+  }
+  std::array<char, 4096> buf{};
+  std::size_t n = 0;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  r.code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = read_file(err_file);
+  std::error_code ec;
+  fs::remove(err_file, ec);
+  return r;
+}
+
+using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+/// The `v x y z` lines of an OBJ file, in order.
+inline Points read_obj_vertices(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<double> xyz;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream s(line.substr(2));
+    double x = 0, y = 0, z = 0;
+    s >> x >> y >> z;
+    EXPECT_TRUE(static_cast<bool>(s)) << p << ": bad vertex line '" << line << "'";
+    xyz.insert(xyz.end(), {x, y, z});
+  }
+  Points out(static_cast<Eigen::Index>(xyz.size() / 3), 3);
+  std::copy(xyz.begin(), xyz.end(), out.data());
+  return out;
+}
+
+/// The vertices of a binary little-endian PLY with float x y z (the layout cgamesh writes).
+inline Points read_ply_vertices(const fs::path& p) {
+  const std::string bytes = read_file(p);
+  const std::string end = "end_header\n";
+  const std::size_t header_end = bytes.find(end);
+  EXPECT_EQ(bytes.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u) << p;
+  if (header_end == std::string::npos) {
+    ADD_FAILURE() << p << ": no end_header";
+    return {};
+  }
+  const std::string header = bytes.substr(0, header_end);
+  const std::string tag = "element vertex ";
+  const std::size_t at = header.find(tag);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << p << ": no vertex element";
+    return {};
+  }
+  const long count = std::stol(header.substr(at + tag.size()));
+  EXPECT_NE(header.find("property float x\nproperty float y\nproperty float z\n"), std::string::npos) << header;
+  const std::size_t data = header_end + end.size();
+  if (bytes.size() < data + static_cast<std::size_t>(count) * 12) {
+    ADD_FAILURE() << p << ": file too short for " << count << " vertices";
+    return {};
+  }
+  Points out(count, 3);
+  for (long i = 0; i < count; ++i)
+    for (int c = 0; c < 3; ++c) {
+      float f = 0;
+      std::memcpy(&f, bytes.data() + data + static_cast<std::size_t>(12 * i + 4 * c), 4);  // little-endian host
+      out(i, c) = f;
+    }
+  return out;
+}
+
+/// Largest distance between corresponding rows (infinity when the counts differ).
+inline double max_distance(const Points& a, const Points& b) {
+  if (a.rows() != b.rows()) return std::numeric_limits<double>::infinity();
+  return a.rows() == 0 ? 0.0 : (a - b).rowwise().norm().maxCoeff();
+}
+
+/// Diagonal of the bounding box.
+inline double diagonal(const Points& a) {
+  return a.rows() == 0 ? 0.0 : (a.colwise().maxCoeff() - a.colwise().minCoeff()).norm();
+}
+
+}  // namespace cgamesh_cli_test
