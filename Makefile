@@ -20,7 +20,7 @@ test: build
 
 # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
 sanitize: deps
-	cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCGAMESH_SANITIZE=ON
+	cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCGAMESH_SANITIZE=ON -DCGAMESH_BUILD_BENCH=OFF
 	cmake --build $(SAN_BUILD) -j $(JOBS)
 	ctest --test-dir $(SAN_BUILD) --output-on-failure -j $(JOBS)
 
@@ -30,7 +30,8 @@ demo: build
 bench: deps
 	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BENCH_BUILD) -j $(JOBS) --target cgamesh_bench
-	$(BENCH_BUILD)/bench/cgamesh_bench --benchmark_min_time=0.2
+	$(BENCH_BUILD)/bench/cgamesh_bench --benchmark_min_time=0.2 --benchmark_out=$(BENCH_BUILD)/bench.json --benchmark_out_format=json
+	python3 scripts/bench_table.py $(BENCH_BUILD)/bench.json
 
 format:
 	find include src apps tests bench -name '*.hpp' -o -name '*.cpp' | xargs clang-format -i

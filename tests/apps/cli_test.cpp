@@ -52,14 +52,14 @@ Json parse_json(const Result& r) {
 }
 
 /// Runs the command and expects exit code 0.
-Result run_ok(const ScratchDir& dir, const std::vector<std::string>& args) {
+Result run_ok(const TempDir& dir, const std::vector<std::string>& args) {
   Result r = run_cli(args, dir.path());
   EXPECT_EQ(r.code, 0) << r;
   return r;
 }
 
 /// `pose` into dir/NAME, returning its vertices.
-Points pose_obj(const ScratchDir& dir, const fs::path& model, const std::string& name, std::vector<std::string> extra) {
+Points pose_obj(const TempDir& dir, const fs::path& model, const std::string& name, std::vector<std::string> extra) {
   std::vector<std::string> args{"pose", model.string(), "-o", (dir / name).string()};
   args.insert(args.end(), extra.begin(), extra.end());
   run_ok(dir, args);
@@ -80,7 +80,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 // ---- info -------------------------------------------------------------------------------------
 
 TEST(CliInfo, JsonSummaryOfCesiumMan) {
-  ScratchDir dir;
+  TempDir dir;
   const Result r = run_ok(dir, {"info", cesium().string(), "--json"});
   const Json j = parse_json(r);
   ASSERT_TRUE(j.is_object()) << r;
@@ -112,7 +112,7 @@ TEST(CliInfo, JsonSummaryOfCesiumMan) {
 
 TEST(CliInfo, JsonWarningsOfTheFbx) {
   if (!fs::exists(kFbx)) GTEST_SKIP() << kFbx << " is not installed (assimp-testmodels)";
-  ScratchDir dir;
+  TempDir dir;
   const Json j = parse_json(run_ok(dir, {"info", kFbx.string(), "--json"}));
   EXPECT_EQ(j["max_influences"], 6);
   bool scale = false, influences = false;
@@ -127,7 +127,7 @@ TEST(CliInfo, JsonWarningsOfTheFbx) {
 // ---- pose -------------------------------------------------------------------------------------
 
 TEST(CliPose, CgaAndMatrixSkinningWriteTheSameVertices) {
-  ScratchDir dir;
+  TempDir dir;
   const Points cga = pose_obj(dir, cesium(), "cga.obj", {"--time", "0.5", "--skinning", "cga"});
   const Points matrix = pose_obj(dir, cesium(), "matrix.obj", {"--time", "0.5", "--skinning", "matrix"});
   ASSERT_EQ(cga.rows(), 3273);
@@ -142,7 +142,7 @@ TEST(CliPose, CgaAndMatrixSkinningWriteTheSameVertices) {
 }
 
 TEST(CliPose, BindPoseDiffersFromTheAnimation) {
-  ScratchDir dir;
+  TempDir dir;
   const Points animated = pose_obj(dir, cesium(), "t.obj", {"--time", "0.5"});
   const Points bind = pose_obj(dir, cesium(), "bind.obj", {"--bind-pose"});
   ASSERT_EQ(bind.rows(), animated.rows());
@@ -156,7 +156,7 @@ TEST(CliPose, BindPoseDiffersFromTheAnimation) {
 }
 
 TEST(CliPose, PlyHoldsTheSameVerticesAsObj) {
-  ScratchDir dir;
+  TempDir dir;
   const Points obj = pose_obj(dir, cesium(), "p.obj", {"--time", "0.5"});
   const Points ply = pose_obj(dir, cesium(), "p.PLY", {"--time", "0.5"});
   ASSERT_EQ(ply.rows(), obj.rows());
@@ -164,7 +164,7 @@ TEST(CliPose, PlyHoldsTheSameVerticesAsObj) {
 }
 
 TEST(CliPose, EditsChangeTheOutput) {
-  ScratchDir dir;
+  TempDir dir;
   const std::string j = busiest_joint();
   const Points plain = pose_obj(dir, cesium(), "plain.obj", {"--time", "0.5"});
   const double diag = diagonal(plain);
@@ -185,7 +185,7 @@ TEST(CliPose, EditsChangeTheOutput) {
 }
 
 TEST(CliPose, EveryBlendModeRuns) {
-  ScratchDir dir;
+  TempDir dir;
   std::vector<Points> out;
   for (const char* blend : {"format", "linear", "log"}) {
     out.push_back(pose_obj(dir, cesium(), std::string(blend) + ".obj", {"--time", "0.77", "--blend", blend}));
@@ -212,7 +212,7 @@ TEST(CliPose, EveryBlendModeRuns) {
 }
 
 TEST(CliPose, StaticGltfFrameHoldsThePosedVertices) {
-  ScratchDir dir;
+  TempDir dir;
   const Points obj = pose_obj(dir, cesium(), "frame.obj", {"--time", "0.5"});
   for (const char* frame : {"frame.glb", "frame.gltf"}) {
     SCOPED_TRACE(frame);
@@ -235,7 +235,7 @@ TEST(CliConvert, ConvertedModelPosesLikeTheInput) {
   if (fs::exists(kX)) models.push_back(kX);
   for (const fs::path& model : models) {
     SCOPED_TRACE(model.string());
-    ScratchDir dir;
+    TempDir dir;
     run_ok(dir, {"convert", model.string(), "-o", (dir / "out.glb").string()});
     ASSERT_TRUE(fs::exists(dir / "out.glb"));
     const Points original = pose_obj(dir, model, "original.obj", {"--time", "0.3"});
@@ -252,7 +252,7 @@ TEST(CliConvert, ConvertedModelPosesLikeTheInput) {
 // ---- animate ----------------------------------------------------------------------------------
 
 TEST(CliAnimate, GeneratedClipIsWrittenAndValid) {
-  ScratchDir dir;
+  TempDir dir;
   const std::string j = busiest_joint();
   const fs::path out = dir / "out.glb";
   run_ok(dir, {"animate", cesium().string(), "-o", out.string(), "--key", "0:" + j + ":rotate=1,0,0,0", "--key",
@@ -286,7 +286,7 @@ TEST(CliAnimate, GeneratedClipIsWrittenAndValid) {
 
 /// Inputs in one directory, outputs in another that must stay empty after a failure.
 struct Failure {
-  ScratchDir inputs, outputs;
+  TempDir inputs, outputs;
 };
 
 /// Runs a command that must fail with `code`, say something containing `message` on stderr, and
@@ -409,7 +409,7 @@ TEST(CliErrors, NoOutputIsOverwrittenOnFailure) {
 // ---- algebra-demo -------------------------------------------------------------------------------
 
 TEST(CliAlgebraDemo, JsonPointAndMatrixAgree) {
-  ScratchDir dir;
+  TempDir dir;
   const Json j = parse_json(run_ok(dir, {"algebra-demo", "--json"}));
   const auto vec = [](const Json& v) { return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); };
   ASSERT_TRUE(j.contains("point")) << j.dump(2);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include "support/temp_dir.hpp"
 
 namespace cgamesh_cli_test {
 
@@ -30,34 +31,7 @@ namespace fs = std::filesystem;
 /// The cgamesh executable built by CMake.
 inline fs::path cli_path() { return fs::path(CGAMESH_CLI); }
 
-/// A fresh empty directory, unique per process and instance, removed at the end.
-class ScratchDir {
- public:
-  ScratchDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() / ("cgamesh_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  [[nodiscard]] const fs::path& path() const { return path_; }
-  [[nodiscard]] fs::path operator/(const std::string& name) const { return path_ / name; }
-  /// Names of every entry (hidden ones included), sorted.
-  [[nodiscard]] std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
- private:
-  fs::path path_;
-};
+using cgamesh_test::TempDir;
 
 /// `text` quoted for /bin/sh.
 inline std::string shell_quote(const std::string& text) {

@@ -84,6 +84,23 @@ TEST(ModelLoader, AssimpTestModelsInOtherFormats) {
   }
 }
 
+// Static formats load as meshes that follow their node; COLLADA archives (.zae) load too.
+TEST(ModelLoader, StaticFormatsAndZae) {
+  const fs::path obj = cgamesh_test::assimp_model("OBJ/WusonOBJ.obj");
+  if (!fs::exists(obj)) GTEST_SKIP() << "assimp-testmodels not installed";
+  for (const char* f : {"OBJ/WusonOBJ.obj", "PLY/Wuson.ply", "STL/Wuson.stl", "Collada/duck.zae"}) {
+    SCOPED_TRACE(f);
+    const anim::RiggedModel m = io::load_model(cgamesh_test::assimp_model(f));
+    ASSERT_FALSE(m.meshes.empty());
+    for (const auto& mesh : m.meshes) {
+      EXPECT_GT(mesh.face_count(), 0);
+      EXPECT_TRUE(mesh.skin.empty());
+      EXPECT_GE(mesh.node, 0);
+      EXPECT_TRUE(mesh.positions.allFinite());
+    }
+  }
+}
+
 TEST(ModelLoader, BadFilesThrowFileError) {
   const fs::path dir = fs::temp_directory_path() / "cgamesh_loader_test";
   fs::create_directories(dir);

@@ -27,6 +27,7 @@
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -34,27 +35,7 @@ namespace fs = std::filesystem;
 using namespace cgamesh;
 using anim::SkinningMode;
 
-/// A fresh empty directory, unique per process and instance, removed at the end.
-class ScratchDir {
- public:
-  ScratchDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("cgamesh_roundtrip_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  ~ScratchDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  [[nodiscard]] const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using cgamesh_test::TempDir;
 
 /// World-space posed vertices of every mesh.
 std::vector<mesh::RowMatrixXf<3>> posed(const anim::RiggedModel& m, const anim::Pose& pose, SkinningMode mode) {
@@ -167,7 +148,7 @@ void check_round_trip(const fs::path& path, bool optional) {
   if (optional && !fs::exists(path)) GTEST_SKIP() << path << " is not installed (assimp-testmodels)";
   const anim::RiggedModel original = io::load_model(path);
   ASSERT_FALSE(original.meshes.empty());
-  ScratchDir dir;
+  TempDir dir;
   // A space in the .gltf name: its buffer goes to "round_trip.bin".
   for (const char* name : {"round_trip.glb", "round trip.gltf"}) {
     SCOPED_TRACE(path.string() + " -> " + name);
@@ -187,7 +168,7 @@ void check_validator(const fs::path& path, bool optional) {
   if (optional && !fs::exists(path)) GTEST_SKIP() << path << " is not installed (assimp-testmodels)";
   if (!validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
   const anim::RiggedModel original = io::load_model(path);
-  ScratchDir dir;
+  TempDir dir;
   for (const char* name : {"model.glb", "model.gltf"}) {
     const fs::path out = dir.path() / name;
     (void)io::write_gltf(original, out);

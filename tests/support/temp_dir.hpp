@@ -1,10 +1,10 @@
 #pragma once
 // A fresh empty directory per test, removed at the end of it.
 
-#include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
-#include <cstdint>
+#include <atomic>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -15,10 +15,10 @@ namespace cgamesh_test {
 class TempDir {
  public:
   TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    // Process id and a counter: unique under ctest -j, and no '/' from parameterised test names.
+    static std::atomic<int> counter{0};
     path_ = std::filesystem::temp_directory_path() /
-            ("cgamesh_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
-             std::to_string(reinterpret_cast<std::uintptr_t>(this)));
+            ("cgamesh_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
@@ -29,6 +29,7 @@ class TempDir {
     std::filesystem::remove_all(path_, ec);
   }
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+  [[nodiscard]] std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
   /// Names of the entries, sorted: to check that a failed write left nothing behind.
   [[nodiscard]] std::vector<std::string> entries() const {
     std::vector<std::string> names;
