@@ -26,6 +26,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
+
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -41,6 +42,17 @@ using cgamesh::io::GltfWriteOptions;
 using cgamesh::io::write_gltf;
 
 using cgamesh_test::TempDir;
+
+Channel channel(int joint, ChannelPath path, Interpolation interpolation, std::vector<double> times,
+                std::vector<double> values) {
+  Channel c;
+  c.joint = joint;
+  c.path = path;
+  c.interpolation = interpolation;
+  c.times = std::move(times);
+  c.values = std::move(values);
+  return c;
+}
 
 Transform trs(const Eigen::Vector3d& t, const Eigen::Quaterniond& r, const Eigen::Vector3d& s) {
   Transform x;
@@ -129,52 +141,24 @@ RiggedModel make_model() {
 
   cgamesh::anim::Clip wave;
   wave.name = "wave";
-  Channel c;
-  c.joint = bone1;
-  c.path = ChannelPath::rotation;
-  c.interpolation = Interpolation::linear;
-  c.times = {0, 0.5, 1};
-  c.values = {0, 0, 0, 2, 0, 0, 0.5, 0.9, 0, 0, 1, 0};  // first key not unit: normalised
-  wave.channels.push_back(c);
-  c = Channel{};
-  c.joint = bone1;
-  c.path = ChannelPath::translation;
-  c.interpolation = Interpolation::step;
-  c.times = {0, 0.25};
-  c.values = {0, 0.1, 0, 0.2, 0.1, 0};
-  wave.channels.push_back(c);
-  c = Channel{};
-  c.joint = bone2;
-  c.path = ChannelPath::scale;
-  c.interpolation = Interpolation::linear;
-  c.times = {0, 1};
-  c.values = {1, 1, 1, 1.5, 0.5, 1};
-  wave.channels.push_back(c);
-  c = Channel{};
-  c.joint = bone2;
-  c.path = ChannelPath::rotation;
-  c.interpolation = Interpolation::cubic_spline;
-  c.times = {0, 0.4, 1};
+  wave.channels.push_back(channel(bone1, ChannelPath::rotation, Interpolation::linear, {0, 0.5, 1},
+                                  {0, 0, 0, 2, 0, 0, 0.5, 0.9, 0, 0, 1, 0}));  // first key not unit: normalised
+  wave.channels.push_back(
+      channel(bone1, ChannelPath::translation, Interpolation::step, {0, 0.25}, {0, 0.1, 0, 0.2, 0.1, 0}));
+  wave.channels.push_back(channel(bone2, ChannelPath::scale, Interpolation::linear, {0, 1}, {1, 1, 1, 1.5, 0.5, 1}));
   const Eigen::Quaterniond q1(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 1, 0).normalized()));
-  c.values = {0.1, 0, 0,   0,   0,      0,      0,      1,      0,   0.1, 0, 0,   // key 0
-              0,   0, 0.2, 0,   q1.x(), q1.y(), q1.z(), q1.w(), 0.3, 0,   0, 0,   // key 1
-              0,   0, 0,   0.1, 0,      0,      0.6,    0.8,    0,   0,   0, 0};  // key 2
-  wave.channels.push_back(c);
-  c = Channel{};  // empty: skipped
-  c.joint = 0;
-  c.path = ChannelPath::scale;
-  wave.channels.push_back(c);
+  wave.channels.push_back(channel(bone2, ChannelPath::rotation, Interpolation::cubic_spline, {0, 0.4, 1},
+                                  {0.1, 0, 0,   0,   0,      0,      0,      1,      0,   0.1, 0, 0,     // key 0
+                                   0,   0, 0.2, 0,   q1.x(), q1.y(), q1.z(), q1.w(), 0.3, 0,   0, 0,     // key 1
+                                   0,   0, 0,   0.1, 0,      0,      0.6,    0.8,    0,   0,   0, 0}));  // key 2
+  wave.channels.push_back(channel(0, ChannelPath::scale, Interpolation::linear, {}, {}));  // empty: skipped
   wave.duration = 1;
   model.clips.push_back(wave);
 
   cgamesh::anim::Clip idle;
   idle.name = "idle";
-  c = Channel{};
-  c.joint = 0;
-  c.path = ChannelPath::translation;
-  c.times = {0, 2};
-  c.values = {0.5, 0, -0.25, 0.5, 0.1, -0.25};
-  idle.channels.push_back(c);
+  idle.channels.push_back(
+      channel(0, ChannelPath::translation, Interpolation::linear, {0, 2}, {0.5, 0, -0.25, 0.5, 0.1, -0.25}));
   idle.duration = 2;
   model.clips.push_back(idle);
 
@@ -633,13 +617,8 @@ TEST(GltfWriter, SkinAcrossTwoTreesGetsACommonRoot) {
 TEST(GltfWriter, SingleCubicKeyIsWrittenAsStep) {
   TempDir dir;
   RiggedModel model = make_model();
-  Channel c;
-  c.joint = 0;
-  c.path = ChannelPath::scale;
-  c.interpolation = Interpolation::cubic_spline;
-  c.times = {0.5};
-  c.values = {9, 9, 9, 1, 2, 3, 9, 9, 9};
-  model.clips[2].channels.push_back(c);
+  model.clips[2].channels.push_back(
+      channel(0, ChannelPath::scale, Interpolation::cubic_spline, {0.5}, {9, 9, 9, 1, 2, 3, 9, 9, 9}));
   const auto warnings = write_gltf(model, dir.path() / "m.glb");
   EXPECT_TRUE(contains(warnings, "written as STEP"));
   const tinygltf::Model g = load(dir.path() / "m.glb");
@@ -775,13 +754,8 @@ TEST(GltfWriterValidator, KhronosValidatorReportsNoErrors) {
   TempDir dir;
   RiggedModel model = make_model();
   // Also a single-key cubic channel and a cross-tree skin variant.
-  Channel c;
-  c.joint = 0;
-  c.path = ChannelPath::scale;
-  c.interpolation = Interpolation::cubic_spline;
-  c.times = {0.5};
-  c.values = {0, 0, 0, 1, 2, 3, 0, 0, 0};
-  model.clips[2].channels.push_back(c);
+  model.clips[2].channels.push_back(
+      channel(0, ChannelPath::scale, Interpolation::cubic_spline, {0.5}, {0, 0, 0, 1, 2, 3, 0, 0, 0}));
   RiggedModel two_trees = make_model();
   {
     cgamesh::anim::EditableSkeleton es;
