@@ -14,6 +14,7 @@
 
 #include "cgamesh/anim/transform.hpp"
 #include "cgamesh/errors.hpp"
+#include "gltf_clip_reader.hpp"
 
 namespace cgamesh::io {
 namespace {
@@ -224,7 +225,17 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
     throw FileError("cannot load '" + path.string() + "': " + what + error);
   }
   try {
-    return Loader(*scene, options).run();
+    anim::RiggedModel model = Loader(*scene, options).run();
+    if (detail::is_gltf(path)) {
+      std::vector<std::string> warnings;
+      std::optional<std::vector<anim::Clip>> clips = detail::read_gltf_clips(path, model.skeleton, warnings);
+      if (clips && clips->size() != model.clips.size())
+        warnings.push_back("the glTF animations did not match Assimp's; keys load as LINEAR");
+      else if (clips)
+        model.clips = std::move(*clips);
+      model.warnings.insert(model.warnings.end(), warnings.begin(), warnings.end());
+    }
+    return model;
   } catch (const FileError&) {
     throw;
   } catch (const InvalidInputError& e) {

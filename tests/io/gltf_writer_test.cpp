@@ -14,6 +14,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,9 +24,11 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
+#include "cgamesh/io/model_loader.hpp"
 
 #include "support/temp_dir.hpp"
 
@@ -474,6 +477,36 @@ TEST(GltfWriter, GlbRoundTrip) {
   ASSERT_EQ(g.buffers.size(), 1u);
   EXPECT_TRUE(g.buffers[0].uri.empty());
   check_model(g, model);
+}
+
+// Our own loader reads back STEP and CUBICSPLINE samplers (Assimp alone loads them as LINEAR):
+// the reloaded clip samples like the original between keys, joint by joint (matched by name).
+TEST(GltfWriter, ReloadedClipKeepsStepAndCubicInterpolation) {
+  TempDir dir;
+  const RiggedModel model = make_model();
+  for (const char* name : {"model.glb", "model.gltf"}) {
+    (void)write_gltf(model, dir.path() / name);
+    const RiggedModel back = cgamesh::io::load_model(dir.path() / name);
+    ASSERT_EQ(back.clips.size(), 2u) << name << ": the empty clip is not written";
+    const cgamesh::anim::Clip& wave = back.clips[0];
+    ASSERT_EQ(wave.name, "wave");
+    std::multiset<Interpolation> kinds;
+    for (const Channel& ch : wave.channels) kinds.insert(ch.interpolation);
+    EXPECT_EQ(kinds.count(Interpolation::step), 1u) << name;
+    EXPECT_EQ(kinds.count(Interpolation::cubic_spline), 1u) << name;
+    for (double t = 0; t <= 1.0; t += 1.0 / 32) {
+      const auto a = cgamesh::anim::sample(model.skeleton, model.clips[0], t, cgamesh::anim::BlendMode::format);
+      const auto b = cgamesh::anim::sample(back.skeleton, wave, t, cgamesh::anim::BlendMode::format);
+      for (int j = 0; j < model.skeleton.size(); ++j) {
+        const int k = back.skeleton.find(model.skeleton.names()[static_cast<std::size_t>(j)]);
+        ASSERT_GE(k, 0);
+        const auto &x = a.local[static_cast<std::size_t>(j)], &y = b.local[static_cast<std::size_t>(k)];
+        EXPECT_LT((x.translation - y.translation).norm(), 1e-6) << name << " t=" << t << " joint " << j;
+        EXPECT_LT(x.rotation.angularDistance(y.rotation), 1e-5) << name << " t=" << t << " joint " << j;
+        EXPECT_LT((x.scale - y.scale).norm(), 1e-6) << name << " t=" << t << " joint " << j;
+      }
+    }
+  }
 }
 
 TEST(GltfWriter, GltfWithSeparateBinRoundTrip) {

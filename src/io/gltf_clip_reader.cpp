@@ -1,0 +1,181 @@
+#include "gltf_clip_reader.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+
+#include <tiny_gltf.h>
+
+#include "cgamesh/errors.hpp"
+
+namespace cgamesh::io::detail {
+namespace {
+
+using anim::Channel;
+using anim::ChannelPath;
+using anim::Interpolation;
+
+/// Images are irrelevant to animation: accept them undecoded.
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
+/// One component of element i of an accessor, as a double (normalised integers per glTF §3.11).
+class AccessorView {
+ public:
+  AccessorView(const tinygltf::Model& model, int index, const std::string& what) {
+    if (index < 0 || index >= static_cast<int>(model.accessors.size())) throw FileError(what + ": no such accessor");
+    const tinygltf::Accessor& a = model.accessors[static_cast<std::size_t>(index)];
+    if (a.sparse.isSparse || a.bufferView < 0) throw FileError(what + ": sparse or empty accessors are not supported");
+    const tinygltf::BufferView& view = model.bufferViews.at(static_cast<std::size_t>(a.bufferView));
+    const tinygltf::Buffer& buffer = model.buffers.at(static_cast<std::size_t>(view.buffer));
+    components_ = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type));
+    size_ = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
+    if (components_ <= 0 || size_ <= 0) throw FileError(what + ": invalid accessor type");
+    type_ = a.componentType;
+    normalized_ = a.normalized;
+    count_ = a.count;
+    const int stride = a.ByteStride(view);
+    stride_ = stride > 0 ? static_cast<std::size_t>(stride) : static_cast<std::size_t>(components_ * size_);
+    offset_ = view.byteOffset + a.byteOffset;
+    const std::size_t needed =
+        count_ == 0 ? 0 : offset_ + (count_ - 1) * stride_ + static_cast<std::size_t>(components_ * size_);
+    if (needed > buffer.data.size() || view.byteOffset + view.byteLength > buffer.data.size())
+      throw FileError(what + ": accessor runs past the end of its buffer");
+    data_ = buffer.data.data();
+  }
+
+  [[nodiscard]] std::size_t count() const noexcept { return count_; }
+  [[nodiscard]] int components() const noexcept { return components_; }
+
+  [[nodiscard]] double get(std::size_t i, int c) const {
+    const unsigned char* p = data_ + offset_ + i * stride_ + static_cast<std::size_t>(c * size_);
+    switch (type_) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: return read<float>(p, 1.0);
+      case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(read<std::int8_t>(p, 127.0), -1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return read<std::uint8_t>(p, 255.0);
+      case TINYGLTF_COMPONENT_TYPE_SHORT: return std::max(read<std::int16_t>(p, 32767.0), -1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return read<std::uint16_t>(p, 65535.0);
+      default: throw FileError("animation accessor of unsupported component type " + std::to_string(type_));
+    }
+  }
+
+ private:
+  template <class T>
+  [[nodiscard]] double read(const unsigned char* p, double scale) const {
+    T v;
+    std::memcpy(&v, p, sizeof v);
+    return normalized_ ? static_cast<double>(v) / scale : static_cast<double>(v);
+  }
+
+  const unsigned char* data_ = nullptr;
+  std::size_t offset_ = 0, stride_ = 0, count_ = 0;
+  int components_ = 0, size_ = 0, type_ = 0;
+  bool normalized_ = false;
+};
+
+std::optional<ChannelPath> channel_path(const std::string& path) {
+  if (path == "translation") return ChannelPath::translation;
+  if (path == "rotation") return ChannelPath::rotation;
+  if (path == "scale") return ChannelPath::scale;
+  return std::nullopt;  // morph-target weights
+}
+
+Interpolation interpolation(const std::string& name, const std::string& what) {
+  if (name.empty() || name == "LINEAR") return Interpolation::linear;
+  if (name == "STEP") return Interpolation::step;
+  if (name == "CUBICSPLINE") return Interpolation::cubic_spline;
+  throw FileError(what + ": unknown interpolation '" + name + "'");
+}
+
+/// Reads one sampler into `ch` (joint and path already set). Keys whose time does not increase
+/// are dropped, as the Assimp path does.
+void read_sampler(const tinygltf::Model& model, const tinygltf::AnimationSampler& sampler, Channel& ch,
+                  const std::string& what) {
+  ch.interpolation = interpolation(sampler.interpolation, what);
+  const AccessorView input(model, sampler.input, what + " input");
+  const AccessorView output(model, sampler.output, what + " output");
+  const int n = ch.components();
+  const std::size_t blocks = ch.interpolation == Interpolation::cubic_spline ? 3 : 1;
+  if (input.components() != 1 || output.components() != n || output.count() != blocks * input.count())
+    throw FileError(what + ": sampler input and output do not match");
+  for (std::size_t k = 0; k < input.count(); ++k) {
+    const double t = input.get(k, 0);
+    if (!std::isfinite(t)) throw FileError(what + " has a NaN key time");
+    if (!ch.times.empty() && t <= ch.times.back()) continue;
+    ch.times.push_back(t);
+    for (std::size_t b = 0; b < blocks; ++b)
+      for (int c = 0; c < n; ++c) {
+        const double v = output.get(k * blocks + b, c);
+        if (!std::isfinite(v)) throw FileError(what + " has NaN or infinite key values");
+        ch.values.push_back(v);
+      }
+  }
+}
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+bool is_gltf(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".gltf" || ext == ".glb";
+}
+
+std::optional<std::vector<anim::Clip>> read_gltf_clips(const std::filesystem::path& path,
+                                                       const anim::Skeleton& skeleton,
+                                                       std::vector<std::string>& warnings) {
+  tinygltf::TinyGLTF reader;
+  reader.SetImageLoader(&skip_image, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  const bool ok = lower_extension(path) == ".glb" ? reader.LoadBinaryFromFile(&model, &err, &warn, path.string())
+                                : reader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+  if (!ok) {
+    // Assimp read the file (glTF 1.0, say, which tinygltf does not): its LINEAR keys stand.
+    while (!err.empty() && err.back() == '\n') err.pop_back();
+    warnings.push_back("the animations' interpolation could not be read (" + err + "); keys load as LINEAR");
+    return std::nullopt;
+  }
+
+  std::vector<anim::Clip> clips;
+  for (std::size_t a = 0; a < model.animations.size(); ++a) {
+    const tinygltf::Animation& in = model.animations[a];
+    anim::Clip clip;
+    clip.name = in.name.empty() ? "clip" + std::to_string(a) : in.name;
+    for (std::size_t c = 0; c < in.channels.size(); ++c) {
+      const tinygltf::AnimationChannel& target = in.channels[c];
+      const std::string what = "animation '" + clip.name + "' channel " + std::to_string(c);
+      const auto path_kind = channel_path(target.target_path);
+      if (!path_kind) continue;
+      if (target.target_node < 0 || target.target_node >= static_cast<int>(model.nodes.size()))
+        throw FileError(what + " targets no node");
+      const std::size_t node = static_cast<std::size_t>(target.target_node);
+      const std::string name = model.nodes[node].name.empty() ? "nodes[" + std::to_string(node) + "]" : model.nodes[node].name;
+      Channel ch;
+      ch.joint = skeleton.find(name);
+      ch.path = *path_kind;
+      if (ch.joint < 0) {
+        warnings.push_back(what + " animates node '" + name + "', which is not in the skeleton; ignored");
+        continue;
+      }
+      if (target.sampler < 0 || target.sampler >= static_cast<int>(in.samplers.size()))
+        throw FileError(what + " has no sampler");
+      read_sampler(model, in.samplers[static_cast<std::size_t>(target.sampler)], ch, what);
+      if (ch.times.empty()) continue;
+      clip.duration = std::max(clip.duration, ch.times.back());
+      clip.channels.push_back(std::move(ch));
+    }
+    clips.push_back(std::move(clip));
+  }
+  return clips;
+}
+
+}  // namespace cgamesh::io::detail
