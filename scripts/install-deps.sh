@@ -12,7 +12,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev
   libassimp-dev assimp-testmodels
-  libtinygltf-dev libstb-dev
+  libtinygltf-dev
+  libcgal-dev
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo_cmd=(); else sudo_cmd=(sudo); fi

@@ -1,0 +1,74 @@
+#pragma once
+// Cutting a skinned model with a plane (paper Algorithm 1) into two models that animate again.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/cga/multivector.hpp"
+#include "cgamesh/mesh/mesh.hpp"
+#include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/surgery/placement.hpp"
+
+namespace cgamesh::surgery {
+
+struct CutOptions {
+  /// Close each piece: triangulate every closed cross-section loop (with holes) in the plane,
+  /// so each piece of a closed input is closed again (beyond the paper).
+  bool cap = false;
+  /// New vertices take only the influences of the old vertices on their own piece's side
+  /// (paper section 4.3, "variations"); the two copies of a seam vertex then differ.
+  bool own_side_influences = false;
+  /// Vertices closer to the plane than this (times the placed mesh's bounding-box diagonal)
+  /// count as on it: no sliver triangles, no duplicate points.
+  double snap = 1e-6;
+  Predicates predicates = Predicates::cga;
+};
+
+/// One mesh cut in two. Piece 0 is the side n·x > d (the plane's normal points into it).
+struct MeshCut {
+  std::array<mesh::Mesh, 2> pieces;
+  /// Per piece, per vertex: its origin in the input mesh (old vertex, or point on an old edge).
+  std::array<std::vector<mesh::VertexSource>, 2> origins;
+  /// Per piece, #V×3 placed (posed) positions of its vertices.
+  std::array<mesh::RowMatrixXf<3>, 2> placed;
+  int intersection_points = 0;  ///< new vertices on crossed edges (one per edge and seam side)
+  int faces_split = 0;          ///< input faces re-triangulated
+  int cap_triangles = 0;        ///< triangles added by `cap`, both pieces together
+  std::vector<std::string> warnings;
+};
+
+/// Cuts one mesh placed at `placed` by the plane Π = n + d e∞ (eq. 5): every face crossed is
+/// re-triangulated at the intersection points of its edges, X·Π deciding the side of each
+/// vertex and (B·Π) A − (A·Π) B the crossing point of edge AB (the meet of line and plane).
+/// Faces lying in the plane go to the side their normal faces away from.
+/// @param[in] mesh    rest mesh with optional skin, #V vertices
+/// @param[in] placed  #V×3 posed positions the plane is placed against
+/// @param[in] plane   a CGA plane (cga::plane(n, d))
+/// @throws InvalidInputError for a vector that is not a plane, or NaN positions.
+/// @throws TopologyError when `cap` finds a self-intersecting cross-section.
+[[nodiscard]] MeshCut cut_mesh(const mesh::Mesh& mesh, const mesh::RowMatrixXf<3>& placed,
+                               const cga::Vector<double>& plane, const CutOptions& options = {});
+
+/// A model cut in two: both pieces keep the skeleton and clips; each has the pieces of the
+/// meshes that reach its side.
+struct ModelCut {
+  std::array<anim::RiggedModel, 2> pieces;
+  /// Per piece, per mesh: the input mesh it came from, its vertex origins, and the placed
+  /// positions of its vertices.
+  std::array<std::vector<int>, 2> source_mesh;
+  std::array<std::vector<std::vector<mesh::VertexSource>>, 2> origins;
+  std::array<std::vector<mesh::RowMatrixXf<3>>, 2> placed;
+  int new_vertices = 0, intersection_points = 0, faces_in = 0, faces_split = 0, cap_triangles = 0;
+  std::array<int, 2> faces_out{0, 0};
+  std::vector<std::string> warnings;
+};
+
+/// Cuts every mesh of `model`, placed in `placement` (see place()).
+/// @throws InvalidInputError as cut_mesh, or when the placement does not fit the model.
+/// @throws TopologyError when the plane misses the model (one piece would be empty).
+[[nodiscard]] ModelCut cut(const anim::RiggedModel& model, const Placement& placement,
+                           const cga::Vector<double>& plane, const CutOptions& options = {});
+
+}  // namespace cgamesh::surgery

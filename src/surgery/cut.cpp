@@ -1,0 +1,338 @@
+#include "cgamesh/surgery/cut.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "cgamesh/cga/geometry.hpp"
+#include "cgamesh/cga/products.hpp"
+#include "cgamesh/errors.hpp"
+#include "polygon_triangulation.hpp"
+#include "surgery_common.hpp"
+
+namespace cgamesh::surgery {
+namespace {
+
+using mesh::RowMatrixXf;
+using mesh::VertexSource;
+using Triangle = std::array<int, 3>;
+
+/// A new vertex on input edge (a, b), a < b: (1 − t) a + t b.
+struct EdgePoint {
+  int a, b;
+  float t;
+};
+
+class Cutter {
+ public:
+  Cutter(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
+         const CutOptions& options)
+      : mesh_(mesh), placed_(placed), options_(options), nv_(static_cast<int>(mesh.vertex_count())) {
+    const auto [n, d] = cga::plane_parameters(plane);
+    normal_ = n;
+    offset_ = d;
+    plane_ = cga::plane(n, d);
+    if (placed.rows() != mesh.vertex_count())
+      throw InvalidInputError("cut: mesh '" + mesh.name + "' has " + std::to_string(nv_) + " vertices but " +
+                              std::to_string(placed.rows()) + " placed positions");
+    if (!placed.allFinite()) throw InvalidInputError("cut: the placed positions of mesh '" + mesh.name + "' hold NaN");
+  }
+
+  MeshCut run() {
+    classify();
+    for (Eigen::Index f = 0; f < mesh_.face_count(); ++f) split_face(f);
+    MeshCut out;
+    out.intersection_points = static_cast<int>(points_.size());
+    out.faces_split = faces_split_;
+    for (int p = 0; p < 2; ++p) build_piece(p, out);
+    return out;
+  }
+
+ private:
+  /// Signed distances X·Π (or n·x − d) and sides, snapped to 0 within the tolerance.
+  void classify() {
+    distance_ = signed_distances(placed_, normal_, offset_, plane_, options_.predicates);
+    const double tolerance = options_.snap * bounding_diagonal(placed_);
+    side_.resize(distance_.size());
+    for (std::size_t i = 0; i < distance_.size(); ++i) {
+      side_[i] = distance_[i] > tolerance ? 1 : distance_[i] < -tolerance ? -1 : 0;
+      if (side_[i] == 0) distance_[i] = 0;
+    }
+  }
+
+  [[nodiscard]] int side(int v) const { return side_[static_cast<std::size_t>(v)]; }
+  [[nodiscard]] static int piece_of(int side) { return side > 0 ? 0 : 1; }
+
+  /// The crossing of edge (a, b), whose ends are strictly on opposite sides, shared by both faces
+  /// of the edge: t = (A·Π) / (A·Π − B·Π), the meet of the line AB with Π.
+  int crossing(int a, int b) {
+    if (a > b) std::swap(a, b);
+    const auto [it, added] = point_of_edge_.try_emplace(edge_key(a, b), nv_ + static_cast<int>(points_.size()));
+    if (added) {
+      const double da = distance_[static_cast<std::size_t>(a)], db = distance_[static_cast<std::size_t>(b)];
+      points_.push_back({a, b, static_cast<float>(da / (da - db))});
+    }
+    return it->second;
+  }
+
+  void emit(int piece, int a, int b, int c) { faces_[static_cast<std::size_t>(piece)].push_back({a, b, c}); }
+
+  void split_face(Eigen::Index f) {
+    const Triangle v{mesh_.faces(f, 0), mesh_.faces(f, 1), mesh_.faces(f, 2)};
+    const std::array<int, 3> s{side(v[0]), side(v[1]), side(v[2])};
+    const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0, neg = s[0] < 0 || s[1] < 0 || s[2] < 0;
+    if (!pos && !neg) {  // in the plane: it bounds the side its normal faces away from
+      const Eigen::Vector3d a = placed_.row(v[0]).cast<double>(), b = placed_.row(v[1]).cast<double>(),
+                            c = placed_.row(v[2]).cast<double>();
+      emit((b - a).cross(c - a).dot(normal_) > 0 ? 1 : 0, v[0], v[1], v[2]);
+      return;
+    }
+    if (!(pos && neg)) {
+      emit(pos ? 0 : 1, v[0], v[1], v[2]);
+      return;
+    }
+    ++faces_split_;
+    // Rotate so that corner 0 is the odd one: the vertex on the plane, or the lone vertex.
+    int r = 0;
+    const int zeros = (s[0] == 0) + (s[1] == 0) + (s[2] == 0);
+    for (int k = 0; k < 3; ++k) {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      if (zeros == 1 ? s[static_cast<std::size_t>(k)] == 0
+                     : s[static_cast<std::size_t>(k1)] == s[static_cast<std::size_t>(k2)])
+        r = k;
+    }
+    const int a = v[static_cast<std::size_t>(r)], b = v[static_cast<std::size_t>((r + 1) % 3)],
+              c = v[static_cast<std::size_t>((r + 2) % 3)];
+    if (zeros == 1) {  // a on the plane, b and c on opposite sides: two triangles
+      const int q = crossing(b, c);
+      emit(piece_of(side(b)), a, b, q);
+      emit(piece_of(side(c)), a, q, c);
+      return;
+    }
+    // a alone on its side: one triangle there, a quad on the other side split along its
+    // shorter diagonal.
+    const int qb = crossing(a, b), qc = crossing(a, c);
+    emit(piece_of(side(a)), a, qb, qc);
+    const int other = piece_of(side(b));
+    if ((point(qb) - placed_.row(c).cast<double>().transpose()).squaredNorm() <=
+        (point(qc) - placed_.row(b).cast<double>().transpose()).squaredNorm()) {
+      emit(other, qb, b, c);
+      emit(other, qb, c, qc);
+    } else {
+      emit(other, qb, b, qc);
+      emit(other, b, c, qc);
+    }
+  }
+
+  /// Placed position of an extended vertex (old, or new edge point).
+  [[nodiscard]] Eigen::Vector3d point(int x) const {
+    if (x < nv_) return placed_.row(x).cast<double>().transpose();
+    const EdgePoint& e = points_[static_cast<std::size_t>(x - nv_)];
+    return (1.0 - e.t) * placed_.row(e.a).cast<double>().transpose() + e.t * placed_.row(e.b).cast<double>().transpose();
+  }
+
+  [[nodiscard]] VertexSource source(int x, int piece) const {
+    if (x < nv_) return VertexSource::copy(x);
+    const EdgePoint& e = points_[static_cast<std::size_t>(x - nv_)];
+    VertexSource s = VertexSource::edge(e.a, e.b, e.t);
+    if (options_.own_side_influences) {
+      const int want = piece == 0 ? 1 : -1;
+      s.influence_mask = static_cast<std::uint8_t>((side(e.a) == want ? 1u : 0u) | (side(e.b) == want ? 2u : 0u));
+    }
+    return s;
+  }
+
+  void build_piece(int piece, MeshCut& out) {
+    const auto& faces = faces_[static_cast<std::size_t>(piece)];
+    std::vector<int> remap(static_cast<std::size_t>(nv_) + points_.size(), -1);
+    std::vector<int> extended;  // piece vertex -> extended vertex
+    std::vector<VertexSource>& sources = out.origins[static_cast<std::size_t>(piece)];
+    MeshFaces piece_faces(static_cast<Eigen::Index>(faces.size()), 3);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      for (std::size_t k = 0; k < 3; ++k) {
+        int& r = remap[static_cast<std::size_t>(faces[f][k])];
+        if (r < 0) {
+          r = static_cast<int>(sources.size());
+          sources.push_back(source(faces[f][k], piece));
+          extended.push_back(faces[f][k]);
+        }
+        piece_faces(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(k)) = r;
+      }
+    std::vector<Eigen::Vector3d> placed;
+    placed.reserve(extended.size());
+    for (int x : extended) placed.push_back(point(x));
+    const int surface_vertices = static_cast<int>(sources.size());
+    if (options_.cap && !faces.empty()) add_cap(piece, extended, sources, placed, piece_faces, out);
+    mesh::Mesh& m = out.pieces[static_cast<std::size_t>(piece)];
+    m = mesh::resample(mesh_, sources, piece_faces);
+    if (static_cast<int>(sources.size()) > surface_vertices) set_cap_normals(m, surface_vertices);
+    RowMatrixXf<3>& p = out.placed[static_cast<std::size_t>(piece)];
+    p.resize(static_cast<Eigen::Index>(placed.size()), 3);
+    for (std::size_t i = 0; i < placed.size(); ++i) p.row(static_cast<Eigen::Index>(i)) = placed[i].cast<float>().transpose();
+  }
+
+  /// Welded identity of an extended vertex: seam copies share it.
+  int weld_id(int x) {
+    if (x < nv_) return weld_[static_cast<std::size_t>(x)];
+    const EdgePoint& e = points_[static_cast<std::size_t>(x - nv_)];
+    const auto [it, added] = weld_of_edge_.try_emplace(
+        edge_key(weld_[static_cast<std::size_t>(e.a)], weld_[static_cast<std::size_t>(e.b)]),
+        nv_ + static_cast<int>(weld_of_edge_.size()));
+    return it->second;
+  }
+
+  /// Triangulates the closed cross-section loops bounding this piece in the plane and appends
+  /// the cap: its own copies of the loop vertices (so the cap has its own normals).
+  void add_cap(int piece, const std::vector<int>& extended, std::vector<VertexSource>& sources,
+               std::vector<Eigen::Vector3d>& placed, MeshFaces& faces, MeshCut& out) {
+    if (weld_.empty()) weld_ = weld_by_position(mesh_.positions);
+    const auto on_plane = [&](int x) { return x >= nv_ || side(x) == 0; };
+    // Directed edges between on-plane vertices, by welded id; a boundary edge has no twin.
+    std::unordered_map<std::uint64_t, int> count;
+    std::unordered_map<int, int> representative;  // welded id -> piece vertex
+    for (Eigen::Index f = 0; f < faces.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int u = faces(f, k), v = faces(f, (k + 1) % 3);
+        const int xu = extended[static_cast<std::size_t>(u)], xv = extended[static_cast<std::size_t>(v)];
+        if (!on_plane(xu) || !on_plane(xv)) continue;
+        const int wu = weld_id(xu), wv = weld_id(xv);
+        representative.try_emplace(wu, u);
+        representative.try_emplace(wv, v);
+        ++count[directed_key(wu, wv)];
+      }
+    std::vector<std::array<int, 2>> boundary;  // welded ids
+    std::unordered_map<int, int> balance;
+    for (const auto& [key, n] : count) {
+      const int wu = static_cast<int>(key >> 32), wv = static_cast<int>(key & 0xffffffffu);
+      if (n != 1 || count.contains(directed_key(wv, wu))) continue;
+      boundary.push_back({wu, wv});
+      ++balance[wu];
+      --balance[wv];
+    }
+    if (boundary.empty()) return;
+    if (std::any_of(balance.begin(), balance.end(), [](const auto& b) { return b.second != 0; })) {
+      out.warnings.push_back("mesh '" + mesh_.name + "': the cross-section is not closed (the mesh is open there); piece " +
+                             std::string(piece == 0 ? "A" : "B") + " not capped");
+      return;
+    }
+    // 2-D coordinates in the plane, with (e_u, e_v, n) right-handed.
+    const Eigen::Vector3d eu = any_perpendicular(normal_), ev = normal_.cross(eu);
+    std::unordered_map<int, int> local;  // welded id -> index into pts
+    std::vector<int> welded;
+    std::vector<Eigen::Vector2d> pts;
+    std::vector<std::array<int, 2>> edges;
+    const auto local_index = [&](int w) {
+      const auto [it, added] = local.try_emplace(w, static_cast<int>(pts.size()));
+      if (added) {
+        const Eigen::Vector3d x = placed[static_cast<std::size_t>(representative.at(w))];
+        pts.emplace_back(x.dot(eu), x.dot(ev));
+        welded.push_back(w);
+      }
+      return it->second;
+    };
+    for (const auto& e : boundary) edges.push_back({local_index(e[0]), local_index(e[1])});
+    std::vector<Triangle> tris;
+    try {
+      tris = detail::triangulate_loops(pts, edges);
+    } catch (const TopologyError&) {
+      out.warnings.push_back("mesh '" + mesh_.name + "': the cross-section crosses itself (the surface self-intersects " +
+                             "there); piece " + std::string(piece == 0 ? "A" : "B") + " not capped");
+      return;
+    }
+    // Cap vertices: copies of the loop vertices.
+    std::vector<int> cap_vertex(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const int rep = representative.at(welded[i]);
+      cap_vertex[i] = static_cast<int>(sources.size());
+      sources.push_back(sources[static_cast<std::size_t>(rep)]);
+      placed.push_back(placed[static_cast<std::size_t>(rep)]);
+    }
+    // Counter-clockwise in (e_u, e_v) faces +n: right for piece B, reversed for piece A.
+    const Eigen::Index first = faces.rows();
+    faces.conservativeResize(first + static_cast<Eigen::Index>(tris.size()), 3);
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      const int a = cap_vertex[static_cast<std::size_t>(tris[t][0])], b = cap_vertex[static_cast<std::size_t>(tris[t][1])],
+                c = cap_vertex[static_cast<std::size_t>(tris[t][2])];
+      if (piece == 0) faces.row(first + static_cast<Eigen::Index>(t)) << a, c, b;
+      else faces.row(first + static_cast<Eigen::Index>(t)) << a, b, c;
+    }
+    out.cap_triangles += static_cast<int>(tris.size());
+  }
+
+  /// Normals of the cap vertices (from `first` on): area-weighted normals of the cap faces in
+  /// the rest mesh (the cut plane is flat in the placed pose, not necessarily at rest).
+  static void set_cap_normals(mesh::Mesh& m, int first) {
+    if (m.normals.rows() == 0) return;
+    m.normals.bottomRows(m.vertex_count() - first).setZero();
+    for (Eigen::Index f = 0; f < m.face_count(); ++f) {
+      if (m.faces(f, 0) < first) continue;
+      const Eigen::Vector3f a = m.positions.row(m.faces(f, 0)), b = m.positions.row(m.faces(f, 1)),
+                            c = m.positions.row(m.faces(f, 2));
+      const Eigen::Vector3f n = (b - a).cross(c - a);
+      for (int k = 0; k < 3; ++k) m.normals.row(m.faces(f, k)) += n.transpose();
+    }
+    for (Eigen::Index v = first; v < m.vertex_count(); ++v)
+      if (m.normals.row(v).norm() > 0) m.normals.row(v).normalize();
+  }
+
+  const mesh::Mesh& mesh_;
+  const RowMatrixXf<3>& placed_;
+  const CutOptions& options_;
+  const int nv_;
+  Eigen::Vector3d normal_;
+  double offset_ = 0;
+  cga::Vector<double> plane_;
+  std::vector<double> distance_;
+  std::vector<int> side_;
+  std::vector<EdgePoint> points_;
+  std::unordered_map<std::uint64_t, int> point_of_edge_;
+  std::array<std::vector<Triangle>, 2> faces_;
+  int faces_split_ = 0;
+  std::vector<int> weld_;
+  std::unordered_map<std::uint64_t, int> weld_of_edge_;
+};
+
+}  // namespace
+
+MeshCut cut_mesh(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
+                 const CutOptions& options) {
+  return Cutter(mesh, placed, plane, options).run();
+}
+
+ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const cga::Vector<double>& plane,
+             const CutOptions& options) {
+  require_placement_fits(model, placement);
+  ModelCut out;
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    MeshCut mc = cut_mesh(model.meshes[i], placement.positions[i], plane, options);
+    out.faces_in += static_cast<int>(model.meshes[i].face_count());
+    out.intersection_points += mc.intersection_points;
+    out.faces_split += mc.faces_split;
+    out.cap_triangles += mc.cap_triangles;
+    out.new_vertices -= static_cast<int>(model.meshes[i].vertex_count());
+    out.warnings.insert(out.warnings.end(), mc.warnings.begin(), mc.warnings.end());
+    for (std::size_t p = 0; p < 2; ++p) {
+      out.new_vertices += static_cast<int>(mc.pieces[p].vertex_count());
+      if (mc.pieces[p].face_count() == 0) continue;
+      out.faces_out[p] += static_cast<int>(mc.pieces[p].face_count());
+      out.pieces[p].meshes.push_back(std::move(mc.pieces[p]));
+      out.source_mesh[p].push_back(static_cast<int>(i));
+      out.origins[p].push_back(std::move(mc.origins[p]));
+      out.placed[p].push_back(std::move(mc.placed[p]));
+    }
+  }
+  if (out.pieces[0].meshes.empty() || out.pieces[1].meshes.empty())
+    throw TopologyError("cut: the plane misses the model (every face is on its " +
+                        std::string(out.pieces[0].meshes.empty() ? "negative" : "positive") + " side)");
+  for (anim::RiggedModel& piece : out.pieces) {
+    piece.skeleton = model.skeleton;
+    piece.clips = model.clips;
+    piece.warnings = model.warnings;
+    piece.source_max_influences = model.source_max_influences;
+  }
+  return out;
+}
+
+}  // namespace cgamesh::surgery

@@ -1,0 +1,83 @@
+#include "polygon_triangulation.hpp"
+
+#include <deque>
+#include <string>
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include "cgamesh/errors.hpp"
+
+namespace cgamesh::surgery::detail {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;
+using FaceInfoBase = CGAL::Triangulation_face_base_with_info_2<int, Kernel>;  // nesting level, -1 unset
+using FaceBase = CGAL::Constrained_triangulation_face_base_2<Kernel, FaceInfoBase>;
+using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
+// Constraints may meet at vertices; a proper crossing throws instead of inventing a vertex.
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
+
+/// Nesting level of every finite face: 0 outside all loops, +1 per constraint crossed (the
+/// flood fill of CGAL's polygon-with-holes example).
+void mark_nesting(Cdt& cdt) {
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
+  std::deque<Cdt::Face_handle> border{cdt.infinite_face()};
+  cdt.infinite_face()->info() = 0;
+  int level = 0;
+  while (!border.empty()) {
+    std::deque<Cdt::Face_handle> next;
+    while (!border.empty()) {
+      const Cdt::Face_handle f = border.front();
+      border.pop_front();
+      for (int i = 0; i < 3; ++i) {
+        const Cdt::Face_handle n = f->neighbor(i);
+        if (n->info() != -1) continue;
+        if (cdt.is_constrained(Cdt::Edge(f, i))) {
+          next.push_back(n);
+        } else {
+          n->info() = level;
+          border.push_back(n);
+        }
+      }
+    }
+    ++level;
+    for (const Cdt::Face_handle f : next)
+      if (f->info() == -1) {
+        f->info() = level;
+        border.push_back(f);
+      }
+  }
+}
+
+}  // namespace
+
+std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2d> points,
+                                                  std::span<const std::array<int, 2>> edges) {
+  Cdt cdt;
+  std::vector<Cdt::Vertex_handle> handles(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto before = cdt.number_of_vertices();
+    handles[i] = cdt.insert(Kernel::Point_2(points[i].x(), points[i].y()));
+    // A point equal to an earlier one returns the earlier vertex, which keeps its index.
+    if (cdt.number_of_vertices() > before) handles[i]->info() = static_cast<int>(i);
+  }
+  try {
+    for (const auto& e : edges)
+      if (e[0] != e[1]) cdt.insert_constraint(handles[static_cast<std::size_t>(e[0])], handles[static_cast<std::size_t>(e[1])]);
+  } catch (const Cdt::Intersection_of_constraints_exception&) {
+    throw TopologyError("cap: the cross-section loops cross each other; cannot triangulate the section");
+  }
+  mark_nesting(cdt);
+  std::vector<std::array<int, 3>> out;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    if (f->info() % 2 != 1) continue;
+    out.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+  }
+  return out;
+}
+
+}  // namespace cgamesh::surgery::detail

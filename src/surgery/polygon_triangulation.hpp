@@ -1,0 +1,23 @@
+#pragma once
+// Private to surgery: triangulating planar regions bounded by closed loops (caps and walls).
+
+#include <array>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace cgamesh::surgery::detail {
+
+/// Triangulates the region enclosed by `edges` (closed loops, possibly nested: holes inside
+/// outer loops, islands inside holes) with a constrained Delaunay triangulation (CGAL). A
+/// point is inside when a ray from it crosses the loops an odd number of times.
+/// @param[in] points  2-D coordinates of the loop vertices
+/// @param[in] edges   boundary segments as pairs of indices into `points`
+/// @return counter-clockwise triangles of indices into `points`
+/// Points at the same place are merged (the triangles use the first index).
+/// @throws TopologyError when loops cross each other.
+[[nodiscard]] std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2d> points,
+                                                                std::span<const std::array<int, 2>> edges);
+
+}  // namespace cgamesh::surgery::detail
