@@ -6,6 +6,7 @@
 
 #include "algebra_demo.hpp"
 #include "model_commands.hpp"
+#include "surgery_commands.hpp"
 #include "cgamesh/errors.hpp"
 #include "exit_codes.hpp"
 
@@ -17,6 +18,7 @@ int main(int argc, char** argv) {
   cgamesh::cli::add_pose(app);
   cgamesh::cli::add_convert(app);
   cgamesh::cli::add_animate(app);
+  cgamesh::cli::add_cut(app);
   cgamesh::cli::add_algebra_demo(app);
   try {
     app.parse(argc, argv);

@@ -175,4 +175,11 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view b
   write_files_atomically(std::span<const OutputFile>(&file, 1));
 }
 
+void write_files_atomically(std::span<const EncodedFile> files) {
+  std::vector<OutputFile> views;
+  views.reserve(files.size());
+  for (const EncodedFile& f : files) views.push_back({f.path, f.bytes});
+  write_files_atomically(std::span<const OutputFile>(views));
+}
+
 }  // namespace cgamesh::io

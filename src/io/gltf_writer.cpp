@@ -504,39 +504,38 @@ std::string serialize(const tinygltf::Model& gm, bool binary, bool pretty) {
 
 }  // namespace
 
-std::vector<std::string> write_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
-                                    const GltfWriteOptions& options) {
+std::vector<EncodedFile> encode_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
+                                     const GltfWriteOptions& options, std::vector<std::string>* warnings_out) {
   const std::string ext = lower(out.extension().string());
   if (ext != ".glb" && ext != ".gltf")
     throw InvalidInputError("write_gltf: unknown extension '" + out.extension().string() + "' of '" + out.string() +
                             "' (expected .glb or .gltf)");
   std::vector<std::string> warnings;
   tinygltf::Model gm = Builder(model, warnings).run();
+  if (warnings_out != nullptr) *warnings_out = std::move(warnings);
 
-  if (ext == ".glb") {
-    const std::string bytes = serialize(gm, true, false);
-    write_file_atomically(out, bytes);
-  } else if (options.embed_buffer) {
-    const std::string bytes = serialize(gm, false, options.pretty_json);
-    write_file_atomically(out, bytes);
-  } else {
-    // tinygltf's stream writer embeds buffers; write the JSON of a model with an empty buffer
-    // and point the buffer at the .bin written next to it.
-    const std::string bin_name = bin_file_name(out);
-    const fs::path bin_path = out.parent_path() / bin_name;
-    std::vector<unsigned char> bin = std::move(gm.buffers[0].data);
-    gm.buffers[0].data.clear();
-    const std::string text = json_step([&] {
-      nlohmann::json json = nlohmann::json::parse(serialize(gm, false, false));
-      json["buffers"][0] = {{"byteLength", bin.size()}, {"uri", bin_name}};
-      return json.dump(options.pretty_json ? 2 : -1) + "\n";
-    });
-    const OutputFile files[] = {
-        {bin_path, std::string_view(reinterpret_cast<const char*>(bin.data()), bin.size())},
-        {out, text},
-    };
-    write_files_atomically(files);
-  }
+  if (ext == ".glb") return {{out, serialize(gm, true, false)}};
+  if (options.embed_buffer) return {{out, serialize(gm, false, options.pretty_json)}};
+  // tinygltf's stream writer embeds buffers; write the JSON of a model with an empty buffer
+  // and point the buffer at the .bin written next to it.
+  const std::string bin_name = bin_file_name(out);
+  std::vector<unsigned char> bin = std::move(gm.buffers[0].data);
+  gm.buffers[0].data.clear();
+  std::string text = json_step([&] {
+    nlohmann::json json = nlohmann::json::parse(serialize(gm, false, false));
+    json["buffers"][0] = {{"byteLength", bin.size()}, {"uri", bin_name}};
+    return json.dump(options.pretty_json ? 2 : -1) + "\n";
+  });
+  std::vector<EncodedFile> files;
+  files.push_back({out.parent_path() / bin_name, std::string(bin.begin(), bin.end())});
+  files.push_back({out, std::move(text)});
+  return files;
+}
+
+std::vector<std::string> write_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
+                                    const GltfWriteOptions& options) {
+  std::vector<std::string> warnings;
+  write_files_atomically(encode_gltf(model, out, options, &warnings));
   return warnings;
 }
 

@@ -142,13 +142,19 @@ std::string make_ply(std::span<const mesh::Mesh> meshes, std::span<const mesh::R
 
 }  // namespace
 
-void write_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
-                const std::filesystem::path& out) {
+EncodedFile encode_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
+                        const std::filesystem::path& out) {
   const std::string ext = lower(out.extension().string());
   if (ext != ".obj" && ext != ".ply")
     invalid("unknown extension '" + out.extension().string() + "' of '" + out.string() + "' (expected .obj or .ply)");
   const std::int64_t vertices = check(meshes, positions);
-  write_file_atomically(out, ext == ".obj" ? make_obj(meshes, positions) : make_ply(meshes, positions, vertices));
+  return {out, ext == ".obj" ? make_obj(meshes, positions) : make_ply(meshes, positions, vertices)};
+}
+
+void write_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
+                const std::filesystem::path& out) {
+  const EncodedFile file = encode_mesh(meshes, positions, out);
+  write_file_atomically(file.path, file.bytes);
 }
 
 }  // namespace cgamesh::io

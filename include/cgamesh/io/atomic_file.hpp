@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "cgamesh/errors.hpp"
@@ -16,6 +17,13 @@ namespace cgamesh::io {
 struct OutputFile {
   std::filesystem::path path;
   std::string_view bytes;
+};
+
+/// One encoded output file that owns its bytes (what a writer's encode_* function returns), so
+/// several outputs (the two pieces of a cut) can be written together, all or nothing.
+struct EncodedFile {
+  std::filesystem::path path;
+  std::string bytes;
 };
 
 /// Writes every file of `files` or none of them.
@@ -30,6 +38,9 @@ struct OutputFile {
 ///         path and the system error).
 /// @throws InvalidInputError for an empty path, or the same path twice.
 void write_files_atomically(std::span<const OutputFile> files);
+
+/// write_files_atomically() for encoded files.
+void write_files_atomically(std::span<const EncodedFile> files);
 
 /// write_files_atomically() for one file.
 /// @param[in] path   target path

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/io/atomic_file.hpp"
 
 namespace cgamesh::io {
 
@@ -59,5 +60,12 @@ struct GltfWriteOptions {
 /// @throws WriteError when the file cannot be written (nothing is left behind).
 std::vector<std::string> write_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
                                     const GltfWriteOptions& options = {});
+
+/// The files write_gltf() would write (the .glb, or the .gltf and its .bin), not written.
+/// @param[out] warnings  if not null, what write_gltf() would return
+/// @throws InvalidInputError as write_gltf().
+[[nodiscard]] std::vector<EncodedFile> encode_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
+                                                   const GltfWriteOptions& options = {},
+                                                   std::vector<std::string>* warnings = nullptr);
 
 }  // namespace cgamesh::io

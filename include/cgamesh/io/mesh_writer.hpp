@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <span>
 
+#include "cgamesh/io/atomic_file.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 
 namespace cgamesh::io {
@@ -31,5 +32,10 @@ namespace cgamesh::io {
 /// @throws WriteError when the file cannot be written (nothing is left behind).
 void write_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
                 const std::filesystem::path& out);
+
+/// The file write_mesh() would write, not written.
+/// @throws InvalidInputError as write_mesh().
+[[nodiscard]] EncodedFile encode_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
+                                      const std::filesystem::path& out);
 
 }  // namespace cgamesh::io

@@ -1,0 +1,38 @@
+#pragma once
+// Conventions every cgamesh command shares: comma-separated vectors, joint edits, choosing a
+// clip and a pose, output formats chosen by extension.
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cgamesh/anim/pose.hpp"
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/anim/skinning.hpp"
+
+namespace cgamesh::cli {
+
+extern const std::map<std::string, anim::BlendMode> kBlendModes;
+extern const std::map<std::string, anim::SkinningMode> kSkinningModes;
+
+/// Exactly `count` comma-separated finite numbers.
+/// @throws InvalidInputError naming `what` otherwise.
+[[nodiscard]] std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what);
+
+/// "JOINT:rotate=AX,AY,AZ,DEG" | "JOINT:translate=X,Y,Z" | "JOINT:scale=S".
+/// @throws InvalidInputError for an unknown joint or a malformed edit.
+[[nodiscard]] anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& text);
+
+/// The clip named or numbered `anim`; the first clip (or -1 without clips) when empty.
+/// @throws InvalidInputError when there is no such clip.
+[[nodiscard]] int clip_index(const anim::RiggedModel& model, const std::string& anim);
+
+/// World-space positions of every mesh in `pose`.
+[[nodiscard]] std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
+                                                                anim::SkinningMode mode);
+
+/// True for a .glb or .gltf path (any case).
+[[nodiscard]] bool is_gltf_path(const std::filesystem::path& path);
+
+}  // namespace cgamesh::cli

@@ -1,0 +1,134 @@
+#include "surgery_commands.hpp"
+
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cgamesh/cga/geometry.hpp"
+#include "cgamesh/errors.hpp"
+#include "cgamesh/io/gltf_writer.hpp"
+#include "cgamesh/io/mesh_writer.hpp"
+#include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/surgery/cut.hpp"
+#include "cli_common.hpp"
+
+namespace cgamesh::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+/// Where the tool is placed: a clip at a time, user edits, or the bind pose (the default).
+struct PlacementOptions {
+  std::string anim;
+  double time = -1;
+  anim::BlendMode blend = anim::BlendMode::format;
+  std::vector<std::string> sets;
+
+  void add_to(CLI::App& sub) {
+    sub.add_option("--anim", anim, "place the tool against this animation (name or index; default: bind pose)");
+    sub.add_option("--time", time, "seconds into the animation (default 0 with --anim)");
+    sub.add_option("--blend", blend, "key blending: format, linear or log")
+        ->transform(CLI::CheckedTransformer(kBlendModes, CLI::ignore_case));
+    sub.add_option("--set", sets, "JOINT:rotate=AX,AY,AZ,DEG | JOINT:translate=X,Y,Z | JOINT:scale=S (repeatable)");
+  }
+
+  [[nodiscard]] anim::Pose pose(const anim::RiggedModel& model) const {
+    if (time != -1 && (!std::isfinite(time) || time < 0)) throw InvalidInputError("--time must be a finite number >= 0");
+    const bool animated = !anim.empty() || time >= 0;
+    const int clip = animated ? clip_index(model, anim) : -1;
+    if (animated && clip < 0) throw InvalidInputError("--anim/--time: the model has no animation");
+    anim::Pose p = clip < 0 ? anim::rest_pose(model.skeleton)
+                            : anim::sample(model.skeleton, model.clips[static_cast<std::size_t>(clip)],
+                                           std::max(time, 0.0), blend);
+    std::vector<anim::JointEdit> edits;
+    for (const std::string& s : sets) edits.push_back(parse_edit(model.skeleton, s));
+    anim::apply_edits(p, edits);
+    return p;
+  }
+};
+
+/// The files of one result: a rigged glTF (skin, skeleton, clips), or for OBJ/PLY the surface
+/// as placed (the pose the tool was used in).
+std::vector<io::EncodedFile> encode_result(const anim::RiggedModel& model,
+                                           const std::vector<mesh::RowMatrixXf<3>>& placed, const std::string& out) {
+  if (is_gltf_path(out)) return io::encode_gltf(model, out);
+  return {io::encode_mesh(model.meshes, placed, out)};
+}
+
+double milliseconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// ---- cut ----
+struct CutCommand {
+  std::string model, plane;
+  std::vector<std::string> outputs;
+  PlacementOptions placement;
+  surgery::CutOptions options;
+  bool euclidean = false;
+  bool json = false;
+
+  void run() {
+    const auto p = parse_numbers(plane, 4, "--plane");
+    const Eigen::Vector3d n(p[0], p[1], p[2]);
+    if (!(n.norm() > 0)) throw InvalidInputError("--plane: the normal NX,NY,NZ is the zero vector");
+    const cga::Vector<double> pi = cga::plane(n, p[3]);
+    const anim::RiggedModel m = io::load_model(model);
+    const auto start_place = std::chrono::steady_clock::now();
+    const surgery::Placement placed = surgery::place(m, placement.pose(m));
+    const double place_ms = milliseconds_since(start_place);
+    options.predicates = euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
+    const auto start = std::chrono::steady_clock::now();
+    const surgery::ModelCut c = surgery::cut(m, placed, pi, options);
+    const double ms = milliseconds_since(start);
+    std::vector<io::EncodedFile> files;
+    for (std::size_t k = 0; k < 2; ++k)
+      for (io::EncodedFile& f : encode_result(c.pieces[k], c.placed[k], outputs[k])) files.push_back(std::move(f));
+    io::write_files_atomically(files);
+    const Json summary = {{"outputs", outputs},
+                          {"milliseconds", ms},
+                          {"placement_milliseconds", place_ms},
+                          {"predicates", euclidean ? "euclidean" : "cga"},
+                          {"new_vertices", c.new_vertices},
+                          {"intersection_points", c.intersection_points},
+                          {"faces_in", c.faces_in},
+                          {"faces_out", c.faces_out},
+                          {"faces_split", c.faces_split},
+                          {"cap_triangles", c.cap_triangles},
+                          {"warnings", c.warnings}};
+    if (json) {
+      std::cout << summary.dump(2) << "\n";
+      return;
+    }
+    std::cout << "cut " << model << " in " << ms << " ms: " << c.intersection_points << " intersection points, "
+              << c.faces_split << " faces split, " << c.faces_out[0] << " + " << c.faces_out[1] << " faces"
+              << (options.cap ? ", " + std::to_string(c.cap_triangles) + " cap triangles" : "") << "\n  -> "
+              << outputs[0] << ", " << outputs[1] << "\n";
+    for (const auto& w : c.warnings) std::cout << "  warning: " << w << "\n";
+  }
+};
+
+}  // namespace
+
+void add_cut(CLI::App& app) {
+  auto c = std::make_shared<CutCommand>();
+  CLI::App* sub = app.add_subcommand("cut", "Cut a model in two with a plane (both pieces keep skin and animations)");
+  sub->add_option("MODEL", c->model, "model file")->required();
+  sub->add_option("--plane", c->plane, "NX,NY,NZ,D: the plane n.x = d; piece A is the side n.x > d")->required();
+  sub->add_option("-o,--output", c->outputs, "PIECE_A PIECE_B: .glb/.gltf (rigged) or .obj/.ply (as placed)")
+      ->required()
+      ->expected(2);
+  sub->add_flag("--cap", c->options.cap, "close each piece by triangulating the cross-section");
+  sub->add_flag("--own-side-influences", c->options.own_side_influences,
+                "new vertices take influences from their own side only");
+  sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
+  c->placement.add_to(*sub);
+  sub->add_flag("--json", c->json, "print a machine-readable summary");
+  sub->callback([c] { c->run(); });
+}
+
+}  // namespace cgamesh::cli
