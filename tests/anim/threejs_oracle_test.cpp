@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "anim/model_fixtures.hpp"
+#include "support/js_oracles.hpp"
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/io/model_loader.hpp"
@@ -22,32 +23,11 @@ namespace fs = std::filesystem;
 
 const std::vector<double> kTimes{0.0, 0.4, 0.9, 1.7};
 
-bool oracle_available() {
-  return std::system("node --version > /dev/null 2>&1") == 0 &&
-         fs::exists(fs::path(CGAMESH_JS_ORACLES) / "node_modules" / "three");
-}
-
-/// Runs three.js on `model` and returns its JSON. Weights are normalised, as cgamesh does on
-/// load (the glTF sample models store some weight rows that do not sum to 1).
-nlohmann::json three_reference(const fs::path& model) {
-  const fs::path out = fs::temp_directory_path() / ("cgamesh_three_" + model.stem().string() + ".json");
-  std::ostringstream times;
-  for (std::size_t i = 0; i < kTimes.size(); ++i) times << (i ? "," : "") << kTimes[i];
-  const std::string cmd = "node \"" + (fs::path(CGAMESH_JS_ORACLES) / "skin_reference.mjs").string() + "\" \"" +
-                          model.string() + "\" \"" + out.string() + "\" --weights normalized --times " + times.str() +
-                          " 2> /dev/null";
-  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("three.js oracle failed: " + cmd);
-  std::ifstream in(out);
-  nlohmann::json j = nlohmann::json::parse(in);
-  fs::remove(out);
-  return j;
-}
-
 TEST(ThreeJsOracle, CgaAndMatrixSkinningMatchThreeJs) {
-  if (!oracle_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules missing (run scripts/install-deps.sh)";
+  if (!cgamesh_test::three_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules missing (run scripts/install-deps.sh)";
   for (const fs::path& path : cgamesh_test::gltf_samples()) {
     SCOPED_TRACE(path.string());
-    const nlohmann::json ref = three_reference(path);
+    const nlohmann::json ref = cgamesh_test::three_reference(path, kTimes);
     const anim::RiggedModel model = io::load_model(path);
     ASSERT_EQ(ref["meshes"].size(), model.meshes.size());
     const double diag = ref["bbox_diagonal"].get<double>();

@@ -16,6 +16,7 @@
 
 #include "anim/model_fixtures.hpp"
 #include "apps/cli_util.hpp"
+#include "support/js_oracles.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/io/model_loader.hpp"
 
@@ -42,22 +43,6 @@ std::string busiest_joint() {
   return name;
 }
 
-Json parse_json(const Result& r) {
-  try {
-    return Json::parse(r.out);
-  } catch (const Json::exception& e) {
-    ADD_FAILURE() << "stdout is not JSON (" << e.what() << "):\n" << r;
-    return Json::object();
-  }
-}
-
-/// Runs the command and expects exit code 0.
-Result run_ok(const TempDir& dir, const std::vector<std::string>& args) {
-  Result r = run_cli(args, dir.path());
-  EXPECT_EQ(r.code, 0) << r;
-  return r;
-}
-
 /// `pose` into dir/NAME, returning its vertices.
 Points pose_obj(const TempDir& dir, const fs::path& model, const std::string& name, std::vector<std::string> extra) {
   std::vector<std::string> args{"pose", model.string(), "-o", (dir / name).string()};
@@ -69,13 +54,7 @@ Points pose_obj(const TempDir& dir, const fs::path& model, const std::string& na
   return ext == ".ply" ? read_ply_vertices(dir / name) : read_obj_vertices(dir / name);
 }
 
-bool validator_available() {
-  const fs::path js(CGAMESH_JS_ORACLES);
-  return fs::exists(js / "validate_gltf.mjs") && fs::exists(js / "node_modules" / "gltf-validator") &&
-         std::system("node --version > /dev/null 2>&1") == 0;
-}
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // ---- info -------------------------------------------------------------------------------------
 
@@ -272,34 +251,14 @@ TEST(CliAnimate, GeneratedClipIsWrittenAndValid) {
   EXPECT_LE(max_distance(start, bind), 1e-5 * diagonal(bind));
   EXPECT_GT(max_distance(end, bind), 1e-2 * diagonal(bind));
 
-  if (!validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
-  const fs::path log = dir / "validator.log";
-  const std::string cmd = "node " + shell_quote((fs::path(CGAMESH_JS_ORACLES) / "validate_gltf.mjs").string()) + " " +
-                          shell_quote(out.string()) + " > " + shell_quote(log.string()) + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  const std::string text = read_file(log);
+  if (!cgamesh_test::validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
+  std::string text;
+  const int status = cgamesh_test::validate_gltf(out, text);
   EXPECT_EQ(status, 0) << text;
   EXPECT_TRUE(contains(text, " 0 error(s)")) << text;
 }
 
 // ---- bad input ----------------------------------------------------------------------------------
-
-/// Inputs in one directory, outputs in another that must stay empty after a failure.
-struct Failure {
-  TempDir inputs, outputs;
-};
-
-/// Runs a command that must fail with `code`, say something containing `message` on stderr, and
-/// leave the output directory empty (no output, no temporary file).
-void expect_failure(const Failure& f, const std::vector<std::string>& args, int code, const std::string& message,
-                    const fs::path& output) {
-  const Result r = run_cli(args, f.inputs.path());
-  EXPECT_EQ(r.code, code) << r;
-  EXPECT_FALSE(r.err.empty()) << r;
-  EXPECT_TRUE(contains(r.err, message)) << "stderr should mention '" << message << "'\n" << r;
-  EXPECT_FALSE(fs::exists(output)) << output;
-  EXPECT_TRUE(f.outputs.entries().empty()) << r << "\nleft in the output directory: " << f.outputs.entries().front();
-}
 
 TEST(CliErrors, TruncatedGlbIsBadInput) {
   Failure f;

@@ -22,6 +22,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
 #include "support/temp_dir.hpp"
 
 namespace cgamesh_cli_test {
@@ -147,5 +149,41 @@ inline double max_distance(const Points& a, const Points& b) {
 inline double diagonal(const Points& a) {
   return a.rows() == 0 ? 0.0 : (a.colwise().maxCoeff() - a.colwise().minCoeff()).norm();
 }
+
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+inline nlohmann::json parse_json(const Result& r) {
+  try {
+    return nlohmann::json::parse(r.out);
+  } catch (const nlohmann::json::exception& e) {
+    ADD_FAILURE() << "stdout is not JSON (" << e.what() << "):\n" << r;
+    return nlohmann::json::object();
+  }
+}
+
+/// Runs the command and expects exit code 0.
+inline Result run_ok(const cgamesh_test::TempDir& dir, const std::vector<std::string>& args) {
+  Result r = run_cli(args, dir.path());
+  EXPECT_EQ(r.code, 0) << r;
+  return r;
+}
+
+/// Inputs in one directory, outputs in another that must stay empty after a failure.
+struct Failure {
+  cgamesh_test::TempDir inputs, outputs;
+};
+
+/// Runs a command that must fail with `code`, say something containing `message` on stderr, and
+/// leave the output directory empty (no output, no temporary file).
+inline void expect_failure(const Failure& f, const std::vector<std::string>& args, int code, const std::string& message,
+                    const fs::path& output) {
+  const Result r = run_cli(args, f.inputs.path());
+  EXPECT_EQ(r.code, code) << r;
+  EXPECT_FALSE(r.err.empty()) << r;
+  EXPECT_TRUE(contains(r.err, message)) << "stderr should mention '" << message << "'\n" << r;
+  EXPECT_FALSE(fs::exists(output)) << output;
+  EXPECT_TRUE(f.outputs.entries().empty()) << r << "\nleft in the output directory: " << f.outputs.entries().front();
+}
+
 
 }  // namespace cgamesh_cli_test

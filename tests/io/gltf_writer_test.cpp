@@ -30,6 +30,7 @@
 #include "cgamesh/io/atomic_file.hpp"
 #include "cgamesh/io/model_loader.hpp"
 
+#include "support/js_oracles.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -778,11 +779,8 @@ TEST(GltfWriterErrors, GltfAndBinAppearTogetherOrNotAtAll) {
 // ---- Khronos glTF validator ---------------------------------------------------------------------
 
 TEST(GltfWriterValidator, KhronosValidatorReportsNoErrors) {
-  const fs::path js = fs::path(__FILE__).parent_path().parent_path() / "oracle" / "js";
-  const fs::path script = js / "validate_gltf.mjs";
-  if (!fs::exists(script) || !fs::exists(js / "node_modules" / "gltf-validator"))
-    GTEST_SKIP() << "tests/oracle/js/validate_gltf.mjs or its node_modules is missing (npm ci there)";
-  if (std::system("node --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "node is not installed";
+  if (!cgamesh_test::validator_available())
+    GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
 
   TempDir dir;
   RiggedModel model = make_model();
@@ -802,15 +800,10 @@ TEST(GltfWriterValidator, KhronosValidatorReportsNoErrors) {
   write_gltf(model, dir.path() / "model.gltf");
   write_gltf(two_trees, dir.path() / "two trees.gltf");
   for (const char* name : {"model.glb", "model.gltf", "two trees.gltf"}) {
-    const fs::path log = dir.path() / "validator.log";
-    const std::string cmd =
-        "node \"" + script.string() + "\" \"" + (dir.path() / name).string() + "\" > \"" + log.string() + "\" 2>&1";
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    EXPECT_EQ(status, 0) << name << ":\n" << text.str();
-    EXPECT_NE(text.str().find(" 0 error(s)"), std::string::npos) << text.str();
+    std::string text;
+    const int status = cgamesh_test::validate_gltf(dir.path() / name, text);
+    EXPECT_EQ(status, 0) << name << ":\n" << text;
+    EXPECT_NE(text.find(" 0 error(s)"), std::string::npos) << text;
   }
 }
 

@@ -22,6 +22,7 @@
 #include <Eigen/Geometry>
 
 #include "anim/model_fixtures.hpp"
+#include "support/js_oracles.hpp"
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
@@ -124,25 +125,6 @@ void expect_round_trip(const anim::RiggedModel& a, const anim::RiggedModel& b) {
   }
 }
 
-bool validator_available() {
-  const fs::path js(CGAMESH_JS_ORACLES);
-  return fs::exists(js / "validate_gltf.mjs") && fs::exists(js / "node_modules" / "gltf-validator") &&
-         std::system("node --version > /dev/null 2>&1") == 0;
-}
-
-/// Runs the Khronos validator on `file`; returns its exit status and puts its output in `log`.
-int validate(const fs::path& file, const fs::path& log_file, std::string& log) {
-  const std::string cmd = "node \"" + (fs::path(CGAMESH_JS_ORACLES) / "validate_gltf.mjs").string() + "\" \"" +
-                          file.string() + "\" > \"" + log_file.string() + "\" 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log_file);
-  std::stringstream text;
-  text << in.rdbuf();
-  log = text.str();
-  fs::remove(log_file);
-  return status;
-}
-
 /// Load, write as .glb and as .gltf + .bin, load again, compare.
 void check_round_trip(const fs::path& path, bool optional) {
   if (optional && !fs::exists(path)) GTEST_SKIP() << path << " is not installed (assimp-testmodels)";
@@ -166,14 +148,14 @@ void check_round_trip(const fs::path& path, bool optional) {
 /// The .glb and the .gltf (+ .bin) written for `path` pass the Khronos validator.
 void check_validator(const fs::path& path, bool optional) {
   if (optional && !fs::exists(path)) GTEST_SKIP() << path << " is not installed (assimp-testmodels)";
-  if (!validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
+  if (!cgamesh_test::validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
   const anim::RiggedModel original = io::load_model(path);
   TempDir dir;
   for (const char* name : {"model.glb", "model.gltf"}) {
     const fs::path out = dir.path() / name;
     (void)io::write_gltf(original, out);
     std::string log;
-    const int status = validate(out, dir.path() / "validator.log", log);
+    const int status = cgamesh_test::validate_gltf(out, log);
     EXPECT_EQ(status, 0) << path << " -> " << name << ":\n" << log;
     EXPECT_NE(log.find(" 0 error(s)"), std::string::npos) << path << " -> " << name << ":\n" << log;
   }
