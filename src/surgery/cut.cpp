@@ -175,10 +175,10 @@ class Cutter {
 
   /// Welded identity of an extended vertex: seam copies share it.
   int weld_id(int x) {
-    if (x < nv_) return weld_[static_cast<std::size_t>(x)];
+    if (x < nv_) return weld_(x);
     const EdgePoint& e = points_[static_cast<std::size_t>(x - nv_)];
     const auto [it, added] = weld_of_edge_.try_emplace(
-        edge_key(weld_[static_cast<std::size_t>(e.a)], weld_[static_cast<std::size_t>(e.b)]),
+        edge_key(weld_(e.a), weld_(e.b)),
         nv_ + static_cast<int>(weld_of_edge_.size()));
     return it->second;
   }
@@ -187,7 +187,6 @@ class Cutter {
   /// the cap: its own copies of the loop vertices (so the cap has its own normals).
   void add_cap(int piece, const std::vector<int>& extended, std::vector<VertexSource>& sources,
                std::vector<Eigen::Vector3d>& placed, MeshFaces& faces, MeshCut& out) {
-    if (weld_.empty()) weld_ = weld_by_position(mesh_.positions);
     const auto on_plane = [&](int x) { return x >= nv_ || side(x) == 0; };
     // Directed edges between on-plane vertices, by welded id; a boundary edge has no twin.
     std::unordered_map<std::uint64_t, int> count;
@@ -290,7 +289,7 @@ class Cutter {
   std::unordered_map<std::uint64_t, int> point_of_edge_;
   std::array<std::vector<Triangle>, 2> faces_;
   int faces_split_ = 0;
-  std::vector<int> weld_;
+  PositionWelder weld_{mesh_.positions};
   std::unordered_map<std::uint64_t, int> weld_of_edge_;
 };
 

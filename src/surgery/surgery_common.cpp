@@ -39,23 +39,23 @@ double bounding_diagonal(const mesh::RowMatrixXf<3>& points) {
   return static_cast<double>((points.colwise().maxCoeff() - points.colwise().minCoeff()).norm());
 }
 
+std::size_t PositionWelder::Hash::operator()(const std::array<float, 3>& p) const noexcept {
+  std::array<std::uint32_t, 3> bits;
+  std::memcpy(bits.data(), p.data(), sizeof bits);
+  return (static_cast<std::size_t>(bits[0]) * 73856093u) ^ (static_cast<std::size_t>(bits[1]) * 19349663u) ^
+         (static_cast<std::size_t>(bits[2]) * 83492791u);
+}
+
+int PositionWelder::operator()(int v) {
+  // +0.0f folds -0.0f into 0.0f, whose bits differ.
+  const std::array<float, 3> p{positions_(v, 0) + 0.0f, positions_(v, 1) + 0.0f, positions_(v, 2) + 0.0f};
+  return first_.try_emplace(p, v).first->second;
+}
+
 std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions) {
-  struct Hash {
-    std::size_t operator()(const std::array<float, 3>& p) const noexcept {
-      std::array<std::uint32_t, 3> bits;
-      std::memcpy(bits.data(), p.data(), sizeof bits);
-      return (static_cast<std::size_t>(bits[0]) * 73856093u) ^ (static_cast<std::size_t>(bits[1]) * 19349663u) ^
-             (static_cast<std::size_t>(bits[2]) * 83492791u);
-    }
-  };
-  std::unordered_map<std::array<float, 3>, int, Hash> first;
-  first.reserve(static_cast<std::size_t>(positions.rows()));
+  PositionWelder weld(positions);
   std::vector<int> out(static_cast<std::size_t>(positions.rows()));
-  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
-    // +0.0f folds -0.0f into 0.0f, whose bits differ.
-    const std::array<float, 3> p{positions(i, 0) + 0.0f, positions(i, 1) + 0.0f, positions(i, 2) + 0.0f};
-    out[static_cast<std::size_t>(i)] = first.try_emplace(p, static_cast<int>(i)).first->second;
-  }
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) out[static_cast<std::size_t>(i)] = weld(static_cast<int>(i));
   return out;
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // Private to surgery: small helpers the cut, tear and drill share.
 
+#include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,7 +30,23 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// Length of the bounding-box diagonal of the rows of `points` (0 when empty).
 [[nodiscard]] double bounding_diagonal(const mesh::RowMatrixXf<3>& points);
 
-/// Per vertex, the smallest index of a vertex at exactly the same position: seam copies share it.
+/// Welds vertices by exact position, on demand: only the vertices asked about are hashed, so a
+/// local operation on a large mesh stays local. Seam copies get the same id (the first of them
+/// asked about).
+class PositionWelder {
+ public:
+  explicit PositionWelder(const mesh::RowMatrixXf<3>& positions) : positions_(positions) {}
+  [[nodiscard]] int operator()(int v);
+
+ private:
+  struct Hash {
+    std::size_t operator()(const std::array<float, 3>& p) const noexcept;
+  };
+  const mesh::RowMatrixXf<3>& positions_;
+  std::unordered_map<std::array<float, 3>, int, Hash> first_;
+};
+
+/// Per vertex, the welded id of PositionWelder for the whole mesh.
 [[nodiscard]] std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions);
 
 /// A unit vector perpendicular to the unit vector n.
