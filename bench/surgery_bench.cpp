@@ -1,7 +1,7 @@
-// Surgery on skinned models, operation only (the model is loaded and placed once): cut, with
-// CGA predicates (X·Π) against the same cut with Euclidean predicates (n·x − d) in the same
-// binary, on CesiumMan (about the seed's 3k-vertex arm), ogre (124k faces, when ../shared is
-// present) and CesiumMan subdivided to over a million faces.
+// Surgery on skinned models, operation only (the model is loaded and placed once): cut and
+// drill, with CGA predicates (X·Π, −2 X·S − (X·Π)²) against the same operation with Euclidean
+// predicates in the same binary, on CesiumMan (about the seed's 3k-vertex arm), ogre (124k
+// faces, when ../shared is present) and CesiumMan subdivided to over a million faces.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -12,6 +12,8 @@
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/mesh/subdivide.hpp"
 #include "cgamesh/surgery/cut.hpp"
+#include "cgamesh/surgery/drill.hpp"
+#include "cgamesh/surgery/surface_index.hpp"
 
 namespace {
 
@@ -79,6 +81,35 @@ void BM_CutCesiumMan(benchmark::State& state) { cut(state, &cesium()); }
 void BM_CutOgre(benchmark::State& state) { cut(state, ogre()); }
 void BM_CutMillion(benchmark::State& state) { cut(state, &million()); }
 
+/// Drills through the centre of the placed mesh along a slanted axis, with a radius of 2% of
+/// the mesh's size; the SurfaceIndex is built once, outside the timed loop (as an interactive
+/// tool would keep it per pose).
+void drill(benchmark::State& state, const Subject* s) {
+  if (s == nullptr) {
+    state.SkipWithError("model not found (../shared/data is not present)");
+    return;
+  }
+  const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(s->model, s->placement);
+  surgery::DrillOptions options;
+  options.predicates = state.range(0) == 0 ? surgery::Predicates::cga : surgery::Predicates::euclidean;
+  const double size = index.meshes[0].bvh.diagonal();
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 0.2, 0.1).normalized();
+  const Eigen::Vector3d tip = s->centre + size * axis, base = s->centre - size * axis;
+  surgery::ModelDrill d;
+  for (auto _ : state) {
+    d = surgery::drill(s->model, s->placement, index, tip, base, 0.02 * size, options);
+    benchmark::DoNotOptimize(d.model.meshes.data());
+  }
+  state.counters["faces"] = d.faces_in;
+  state.counters["affected"] = d.faces_affected;
+  state.counters["rim_points"] = d.intersection_points;
+  state.SetLabel(state.range(0) == 0 ? "cga" : "euclidean");
+}
+
+void BM_DrillCesiumMan(benchmark::State& state) { drill(state, &cesium()); }
+void BM_DrillOgre(benchmark::State& state) { drill(state, ogre()); }
+void BM_DrillMillion(benchmark::State& state) { drill(state, &million()); }
+
 void variants(benchmark::internal::Benchmark* b) {
   for (int cap : {0, 1})
     for (int predicates : {0, 1}) b->Args({predicates, cap});
@@ -89,3 +120,6 @@ void variants(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_CutCesiumMan)->Apply(variants)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CutOgre)->Apply(variants)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CutMillion)->Apply(variants)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DrillCesiumMan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DrillOgre)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DrillMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -14,6 +14,8 @@
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/surgery/cut.hpp"
+#include "cgamesh/surgery/drill.hpp"
+#include "cgamesh/surgery/surface_index.hpp"
 #include "cli_common.hpp"
 
 namespace cgamesh::cli {
@@ -112,6 +114,55 @@ struct CutCommand {
   }
 };
 
+// ---- drill ----
+struct DrillCommand {
+  std::string model, tip, base, output;
+  double radius = 0;
+  PlacementOptions placement;
+  surgery::DrillOptions options;
+  bool euclidean = false;
+  bool json = false;
+
+  void run() {
+    const auto a = parse_numbers(tip, 3, "--tip"), b = parse_numbers(base, 3, "--base");
+    const Eigen::Vector3d tip_point(a[0], a[1], a[2]), base_point(b[0], b[1], b[2]);
+    const anim::RiggedModel m = io::load_model(model);
+    const auto start_place = std::chrono::steady_clock::now();
+    const surgery::Placement placed = surgery::place(m, placement.pose(m));
+    const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(m, placed);
+    const double place_ms = milliseconds_since(start_place);
+    options.predicates = euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
+    const auto start = std::chrono::steady_clock::now();
+    const surgery::ModelDrill d = surgery::drill(m, placed, index, tip_point, base_point, radius, options);
+    const double ms = milliseconds_since(start);
+    if (d.model.meshes.empty()) throw TopologyError("drill: the drill removes the whole model; nothing to write");
+    io::write_files_atomically(encode_result(d.model, d.placed, output));
+    const Json summary = {{"output", output},
+                          {"milliseconds", ms},
+                          {"placement_milliseconds", place_ms},
+                          {"predicates", euclidean ? "euclidean" : "cga"},
+                          {"new_vertices", d.new_vertices},
+                          {"intersection_points", d.intersection_points},
+                          {"faces_in", d.faces_in},
+                          {"faces_out", d.faces_out},
+                          {"faces_removed", d.faces_removed},
+                          {"faces_affected", d.faces_affected},
+                          {"refinements", d.refinements},
+                          {"rims", d.rims},
+                          {"wall_triangles", d.wall_triangles},
+                          {"warnings", d.warnings}};
+    if (json) {
+      std::cout << summary.dump(2) << "\n";
+      return;
+    }
+    std::cout << "drill " << model << " in " << ms << " ms: " << d.intersection_points << " intersection points, "
+              << d.rims << " rims, " << d.refinements << " refinements, " << d.faces_in << " -> " << d.faces_out
+              << " faces" << (options.wall ? ", " + std::to_string(d.wall_triangles) + " wall triangles" : "")
+              << "\n  -> " << output << "\n";
+    for (const auto& w : d.warnings) std::cout << "  warning: " << w << "\n";
+  }
+};
+
 }  // namespace
 
 void add_cut(CLI::App& app) {
@@ -125,6 +176,26 @@ void add_cut(CLI::App& app) {
   sub->add_flag("--cap", c->options.cap, "close each piece by triangulating the cross-section");
   sub->add_flag("--own-side-influences", c->options.own_side_influences,
                 "new vertices take influences from their own side only");
+  sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
+  c->placement.add_to(*sub);
+  sub->add_flag("--json", c->json, "print a machine-readable summary");
+  sub->callback([c] { c->run(); });
+}
+
+void add_drill(CLI::App& app) {
+  auto c = std::make_shared<DrillCommand>();
+  CLI::App* sub =
+      app.add_subcommand("drill", "Drill a hole with a cylinder from BASE to TIP (the model keeps skin and animations)");
+  sub->add_option("MODEL", c->model, "model file")->required();
+  sub->add_option("--tip", c->tip, "X,Y,Z: the tip A of the drill axis (world space, as placed)")->required();
+  sub->add_option("--base", c->base, "X,Y,Z: the base B of the drill axis")->required();
+  sub->add_option("--radius", c->radius, "the drill's radius")->required();
+  sub->add_option("-o,--output", c->output, "OUT: .glb/.gltf (rigged) or .obj/.ply (as placed)")->required();
+  sub->add_flag("--wall", c->options.wall, "line each through-hole with a tube (a closed model stays closed)");
+  sub->add_option("--min-rim-points", c->options.min_rim_points, "refine until each rim has this many points")
+      ->check(CLI::Range(3, 1 << 20));
+  sub->add_option("--max-refinements", c->options.max_refinements, "at most this many rounds of 1->4 splits")
+      ->check(CLI::Range(0, 20));
   sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
   c->placement.add_to(*sub);
   sub->add_flag("--json", c->json, "print a machine-readable summary");

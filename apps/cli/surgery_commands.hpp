@@ -6,5 +6,6 @@
 namespace cgamesh::cli {
 
 void add_cut(CLI::App& app);
+void add_drill(CLI::App& app);
 
 }  // namespace cgamesh::cli

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/Geometry>
+
 #include "cgamesh/errors.hpp"
 
 namespace cgamesh::mesh {

@@ -6,6 +6,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/errors.hpp"

@@ -53,11 +53,9 @@ void mark_nesting(Cdt& cdt) {
   }
 }
 
-}  // namespace
-
-std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2d> points,
-                                                  std::span<const std::array<int, 2>> edges) {
-  Cdt cdt;
+/// A CDT of the points with the edges as constraints.
+void build_cdt(Cdt& cdt, std::span<const Eigen::Vector2d> points, std::span<const std::array<int, 2>> edges,
+               const char* what) {
   std::vector<Cdt::Vertex_handle> handles(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto before = cdt.number_of_vertices();
@@ -69,14 +67,33 @@ std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2
     for (const auto& e : edges)
       if (e[0] != e[1]) cdt.insert_constraint(handles[static_cast<std::size_t>(e[0])], handles[static_cast<std::size_t>(e[1])]);
   } catch (const Cdt::Intersection_of_constraints_exception&) {
-    throw TopologyError("cap: the cross-section loops cross each other; cannot triangulate the section");
+    throw TopologyError(what);
   }
+}
+
+}  // namespace
+
+std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2d> points,
+                                                  std::span<const std::array<int, 2>> edges) {
+  Cdt cdt;
+  build_cdt(cdt, points, edges, "cap: the cross-section loops cross each other; cannot triangulate the section");
   mark_nesting(cdt);
   std::vector<std::array<int, 3>> out;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
     if (f->info() % 2 != 1) continue;
     out.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   }
+  return out;
+}
+
+std::vector<std::array<int, 3>> triangulate_constrained(std::span<const Eigen::Vector2d> points,
+                                                        std::span<const std::array<int, 2>> segments) {
+  Cdt cdt;
+  build_cdt(cdt, points, segments, "the constrained segments cross each other");
+  std::vector<std::array<int, 3>> out;
+  out.reserve(cdt.number_of_faces());
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+    out.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   return out;
 }
 

@@ -20,4 +20,11 @@ namespace cgamesh::surgery::detail {
 [[nodiscard]] std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2d> points,
                                                                 std::span<const std::array<int, 2>> edges);
 
+/// Constrained Delaunay triangulation of `points` with `segments` as edges (CGAL): every
+/// triangle of their convex hull, counter-clockwise. Points at the same place are merged (the
+/// triangles use the first index).
+/// @throws TopologyError when two segments cross.
+[[nodiscard]] std::vector<std::array<int, 3>> triangulate_constrained(std::span<const Eigen::Vector2d> points,
+                                                                      std::span<const std::array<int, 2>> segments);
+
 }  // namespace cgamesh::surgery::detail

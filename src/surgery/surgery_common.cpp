@@ -5,6 +5,9 @@
 #include <cstring>
 #include <string>
 #include <unordered_map>
+#include <utility>
+
+#include <Eigen/Geometry>
 
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/products.hpp"
@@ -73,6 +76,47 @@ void require_placement_fits(const anim::RiggedModel& model, const Placement& pla
       throw InvalidInputError("surgery: mesh '" + model.meshes[i].name + "' has " +
                               std::to_string(model.meshes[i].vertex_count()) + " vertices but " +
                               std::to_string(placement.positions[i].rows()) + " placed positions");
+}
+
+EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit) {
+  const auto nv = static_cast<int>(old.vertex_count());
+  const int total = nv + static_cast<int>(edit.new_vertices.size());
+  std::vector<char> removed(static_cast<std::size_t>(old.face_count()), 0);
+  for (int f : edit.removed_faces) {
+    if (f < 0 || f >= old.face_count()) throw InvalidInputError("surgery: removed face " + std::to_string(f) + " out of range");
+    removed[static_cast<std::size_t>(f)] = 1;
+  }
+  const auto kept = static_cast<Eigen::Index>(std::count(removed.begin(), removed.end(), 0));
+  MeshFaces faces(kept + static_cast<Eigen::Index>(edit.new_faces.size()), 3);
+  Eigen::Index row = 0;
+  for (Eigen::Index f = 0; f < old.face_count(); ++f)
+    if (removed[static_cast<std::size_t>(f)] == 0) faces.row(row++) = old.faces.row(f);
+  for (const auto& t : edit.new_faces) {
+    for (int x : t)
+      if (x < 0 || x >= total) throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
+    faces.row(row++) << t[0], t[1], t[2];
+  }
+  // Compact: extended id -> output vertex, old vertices first in their order.
+  std::vector<int> remap(static_cast<std::size_t>(total), -1);
+  for (Eigen::Index i = 0; i < faces.size(); ++i) remap[static_cast<std::size_t>(faces.data()[i])] = 0;
+  EditedMesh out;
+  int next = 0;
+  for (std::size_t x = 0; x < remap.size(); ++x) {
+    if (remap[x] < 0) continue;
+    remap[x] = next++;
+    out.origins.push_back(static_cast<int>(x) < nv ? mesh::VertexSource::copy(static_cast<int>(x))
+                                                   : edit.new_vertices[x - static_cast<std::size_t>(nv)]);
+  }
+  for (Eigen::Index i = 0; i < faces.size(); ++i) faces.data()[i] = remap[static_cast<std::size_t>(faces.data()[i])];
+  out.mesh = mesh::resample(old, out.origins, faces);
+  out.placed.resize(next, 3);
+  for (std::size_t x = 0; x < remap.size(); ++x) {
+    if (remap[x] < 0) continue;
+    if (static_cast<int>(x) < nv) out.placed.row(remap[x]) = placed.row(static_cast<Eigen::Index>(x));
+    else out.placed.row(remap[x]) = edit.new_placed[x - static_cast<std::size_t>(nv)].cast<float>().transpose();
+  }
+  out.vertex_of = std::move(remap);
+  return out;
 }
 
 }  // namespace cgamesh::surgery

@@ -11,6 +11,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/cga/multivector.hpp"
 #include "cgamesh/mesh/mesh.hpp"
+#include "cgamesh/mesh/vertex_source.hpp"
 #include "cgamesh/surgery/placement.hpp"
 
 namespace cgamesh::surgery {
@@ -51,6 +52,35 @@ class PositionWelder {
 
 /// A unit vector perpendicular to the unit vector n.
 [[nodiscard]] Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& n);
+
+/// A local edit of one mesh: some old faces replaced by new faces over extended vertex ids
+/// (old vertices 0 … #V−1, then the new vertices #V + i).
+struct LocalEdit {
+  std::vector<mesh::VertexSource> new_vertices;  ///< where each new vertex comes from (old mesh)
+  std::vector<Eigen::Vector3d> new_placed;       ///< placed position of each new vertex
+  std::vector<int> removed_faces;                ///< old faces dropped (each once)
+  std::vector<std::array<int, 3>> new_faces;     ///< over extended ids
+
+  /// Adds a new vertex; returns its extended id.
+  int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count) {
+    new_vertices.push_back(source);
+    new_placed.push_back(placed);
+    return old_vertex_count + static_cast<int>(new_vertices.size()) - 1;
+  }
+};
+
+/// The result of applying a LocalEdit.
+struct EditedMesh {
+  mesh::Mesh mesh;
+  std::vector<mesh::VertexSource> origins;  ///< per vertex of `mesh`: its origin in the old mesh
+  mesh::RowMatrixXf<3> placed;              ///< per vertex of `mesh`: its placed position
+  std::vector<int> vertex_of;               ///< per extended id: its vertex in `mesh`, or -1
+};
+
+/// The old faces that are not removed, in their order, then the new faces; vertices no face
+/// uses are dropped, the others keep their relative order (old ones first).
+/// @throws InvalidInputError for an id out of range.
+[[nodiscard]] EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit);
 
 /// @throws InvalidInputError when `placement` does not hold one #V×3 block per mesh of `model`.
 void require_placement_fits(const anim::RiggedModel& model, const Placement& placement);

@@ -11,6 +11,7 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/surgery/placement.hpp"
 #include "support/js_oracles.hpp"
 
 namespace {
@@ -89,6 +90,94 @@ TEST(CliCut, FailuresWriteNothing) {
                  2, "cannot write", a);
   expect_failure(f, {"cut", (f.inputs / "missing.glb").string(), "--plane", "0,1,0,0.5", "-o", a.string(), b.string()},
                  3, "no such file", a);
+}
+
+/// "X,Y,Z" of a point.
+std::string coords(const Eigen::Vector3d& p) {
+  return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
+}
+
+/// A drill along z through CesiumMan's torso placed at `time` of its clip: tip, base.
+std::array<std::string, 2> torso_drill(double time) {
+  const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(demo_model());
+  const auto placed = cgamesh::surgery::place(
+      m, cgamesh::anim::sample(m.skeleton, m.clips[0], time, cgamesh::anim::BlendMode::format)).positions[0];
+  // The middle of the vertices at 60% of the height.
+  const float lo = placed.col(1).minCoeff(), hi = placed.col(1).maxCoeff(), y = lo + 0.6f * (hi - lo);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (Eigen::Index v = 0; v < placed.rows(); ++v)
+    if (std::abs(placed(v, 1) - y) < 0.02f * (hi - lo)) {
+      sum += placed.row(v).cast<double>().transpose();
+      ++n;
+    }
+  const Eigen::Vector3d c = sum / n;
+  return {coords(c + Eigen::Vector3d(0, 0, 2)), coords(c - Eigen::Vector3d(0, 0, 2))};
+}
+
+TEST(CliDrill, DrillsTheAnimatedModelThroughAndKeepsTheRig) {
+  TempDir dir;
+  const fs::path out = dir / "drilled.glb";
+  const auto [tip, base] = torso_drill(1.2);
+  const Result r = run_ok(dir, {"drill", demo_model().string(), "--tip", tip, "--base", base, "--radius", "0.05",
+                                "--anim", "0", "--time", "1.2", "-o", out.string(), "--json"});
+  const nlohmann::json j = parse_json(r);
+  EXPECT_GE(j["intersection_points"].get<int>(), 12) << r;
+  EXPECT_GE(j["new_vertices"].get<int>(), j["intersection_points"].get<int>());
+  EXPECT_EQ(j["faces_in"].get<int>(), 4672);
+  EXPECT_GT(j["faces_removed"].get<int>(), 0);
+  EXPECT_GT(j["faces_out"].get<int>(), 0);
+  EXPECT_GE(j["milliseconds"].get<double>(), 0.0);
+  EXPECT_GE(j["refinements"].get<int>(), 0);
+  EXPECT_EQ(j["wall_triangles"].get<int>(), 0);
+  EXPECT_EQ(j["predicates"], "cga");
+  EXPECT_TRUE(j["warnings"].is_array());
+  const cgamesh::anim::RiggedModel original = cgamesh::io::load_model(demo_model());
+  const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(out);
+  ASSERT_EQ(m.meshes.size(), 1u);
+  EXPECT_FALSE(m.meshes[0].skin.empty());
+  EXPECT_EQ(m.clips.size(), original.clips.size());
+  EXPECT_EQ(m.meshes[0].face_count(), j["faces_out"].get<int>());
+  if (!cgamesh_test::validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing";
+  std::string log;
+  EXPECT_EQ(cgamesh_test::validate_gltf(out, log), 0) << log;
+  EXPECT_TRUE(contains(log, " 0 error(s)")) << log;
+}
+
+TEST(CliDrill, WallAndEuclideanPredicates) {
+  TempDir dir;
+  const auto [tip, base] = torso_drill(0.5);
+  const std::vector<std::string> args{"drill", demo_model().string(), "--tip", tip, "--base", base, "--radius", "0.03",
+                                      "--time", "0.5", "-o", (dir / "d.obj").string(), "--json"};
+  std::vector<std::string> eu = args, wall = args;
+  eu.push_back("--euclidean");
+  wall.push_back("--wall");
+  const nlohmann::json ga = parse_json(run_ok(dir, args)), e = parse_json(run_ok(dir, eu));
+  const nlohmann::json w = parse_json(run_ok(dir, wall));
+  EXPECT_EQ(e["predicates"], "euclidean");
+  EXPECT_EQ(ga["faces_out"], e["faces_out"]);
+  EXPECT_EQ(ga["intersection_points"], e["intersection_points"]);
+  EXPECT_EQ(w["intersection_points"], ga["intersection_points"]);
+  EXPECT_EQ(w["faces_out"].get<int>(), ga["faces_out"].get<int>() + w["wall_triangles"].get<int>());
+  EXPECT_FALSE(read_obj_vertices(dir / "d.obj").rows() == 0);
+}
+
+TEST(CliDrill, FailuresWriteNothing) {
+  Failure f;
+  const fs::path out = f.outputs / "d.glb";
+  const std::string model = demo_model().string();
+  expect_failure(f, {"drill", model, "--tip", "5,9,1", "--base", "5,9,-1", "--radius", "0.1", "-o", out.string()}, 4,
+                 "misses the model", out);
+  expect_failure(f, {"drill", model, "--tip", "0,1,1", "--base", "0,1,-1", "--radius", "0", "-o", out.string()}, 2,
+                 "radius", out);
+  expect_failure(f, {"drill", model, "--tip", "0,1,1", "--base", "0,1,1", "--radius", "0.1", "-o", out.string()}, 2,
+                 "same point", out);
+  expect_failure(f, {"drill", model, "--tip", "0,1", "--base", "0,1,-1", "--radius", "0.1", "-o", out.string()}, 2,
+                 "expected 3", out);
+  expect_failure(f, {"drill", model, "--tip", "0,1,1", "--base", "0,1,-1", "-o", out.string()}, 2, "--radius", out);
+  expect_failure(f, {"drill", (f.inputs / "missing.glb").string(), "--tip", "0,1,1", "--base", "0,1,-1", "--radius",
+                     "0.1", "-o", out.string()},
+                 3, "no such file", out);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "surgery/surgery_checks.hpp"
+#include "surgery/surgery_fixtures.hpp"
 
 namespace {
 
@@ -22,55 +23,6 @@ using namespace cgamesh;
 using namespace cgamesh_test;
 using surgery::CutOptions;
 using surgery::ModelCut;
-
-/// A model with one static mesh and a one-joint skeleton, placed at rest.
-anim::RiggedModel static_model(mesh::Mesh m) {
-  anim::RiggedModel model;
-  anim::EditableSkeleton es;
-  es.joints.push_back({"root", -1, {}});
-  model.skeleton = anim::Skeleton::build(es);
-  m.node = 0;
-  model.meshes.push_back(std::move(m));
-  return model;
-}
-
-surgery::Placement rest_placement(const anim::RiggedModel& model) {
-  return surgery::place(model, anim::rest_pose(model.skeleton));
-}
-
-/// The unit cube [0,1]^3, 8 vertices, 12 outward triangles.
-mesh::Mesh cube() {
-  mesh::Mesh m;
-  m.name = "cube";
-  m.positions.resize(8, 3);
-  for (int i = 0; i < 8; ++i) m.positions.row(i) << float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1);
-  m.faces.resize(12, 3);
-  m.faces << 0, 2, 1, 1, 2, 3,  // z = 0
-      4, 5, 6, 5, 7, 6,         // z = 1
-      0, 1, 4, 1, 5, 4,         // y = 0
-      2, 6, 3, 3, 6, 7,         // y = 1
-      0, 4, 2, 2, 4, 6,         // x = 0
-      1, 3, 5, 3, 7, 5;         // x = 1
-  return m;
-}
-
-/// A flat n×n grid of unit squares in z = 0.
-mesh::Mesh grid(int n) {
-  mesh::Mesh m;
-  m.name = "grid";
-  m.positions.resize((n + 1) * (n + 1), 3);
-  for (int y = 0; y <= n; ++y)
-    for (int x = 0; x <= n; ++x) m.positions.row(y * (n + 1) + x) << float(x), float(y), 0.0f;
-  m.faces.resize(2 * n * n, 3);
-  int f = 0;
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const int a = y * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
-      m.faces.row(f++) << a, b, d;
-      m.faces.row(f++) << a, d, c;
-    }
-  return m;
-}
 
 // ---- hand-checked cases ------------------------------------------------------------------------
 
@@ -191,47 +143,6 @@ TEST(Cut, BadPlaneOrPositionsAreInvalidInput) {
 }
 
 // ---- properties on real models -----------------------------------------------------------------
-
-struct Subject {
-  std::string name;
-  anim::RiggedModel model;
-  surgery::Placement placement;
-  bool closed = false;
-  /// The surface crosses itself somewhere (arm_16k does): some sections cannot be capped.
-  bool self_intersecting = false;
-};
-
-/// Real models: CesiumMan placed mid-animation (the tool meets the posed body), RiggedFigure at
-/// rest, and two closed static meshes for caps.
-const std::vector<Subject>& subjects() {
-  static const std::vector<Subject> all = [] {
-    std::vector<Subject> out;
-    const auto add = [&](const std::string& name, const std::filesystem::path& path, double time, bool closed,
-                         bool self_intersecting = false) {
-      Subject s{name, io::load_model(path), {}, closed, self_intersecting};
-      const anim::Pose pose = s.model.clips.empty() || time < 0
-                                  ? anim::rest_pose(s.model.skeleton)
-                                  : anim::sample(s.model.skeleton, s.model.clips[0], time, anim::BlendMode::format);
-      s.placement = surgery::place(s.model, pose);
-      out.push_back(std::move(s));
-    };
-    add("CesiumMan", demo_model(), 0.5, false);
-    add("RiggedFigure", asset("RiggedFigure.glb"), -1, false);
-    add("spot", asset("spot.obj"), -1, true);
-    add("arm_16k", asset("arm_16k.ply"), -1, true, true);
-    return out;
-  }();
-  return all;
-}
-
-double model_diagonal(const Subject& s) {
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
-  for (const Points& p : s.placement.positions) {
-    lo = lo.cwiseMin(p.colwise().minCoeff().transpose());
-    hi = hi.cwiseMax(p.colwise().maxCoeff().transpose());
-  }
-  return static_cast<double>((hi - lo).norm());
-}
 
 /// Every invariant of one cut of `s` by n·x = d.
 void check_cut(const Subject& s, const Eigen::Vector3d& n, double d, const CutOptions& opt) {

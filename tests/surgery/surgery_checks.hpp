@@ -59,6 +59,26 @@ inline std::vector<int> weld_origins(const std::vector<cgamesh::mesh::VertexSour
   return out;
 }
 
+/// Vertex ids of a surgery result welded through their origins by welded old vertices and
+/// weights (rounded to 1e-5, so both sides of a seam, whose parameters may differ in the last
+/// bit, agree): distinct points of one edge or face stay apart, unlike weld_origins.
+inline std::vector<int> weld_points(const std::vector<cgamesh::mesh::VertexSource>& origins,
+                                    const std::vector<int>& old_weld) {
+  std::map<std::array<std::pair<int, long long>, 3>, int> first;
+  std::vector<int> out;
+  out.reserve(origins.size());
+  for (const cgamesh::mesh::VertexSource& o : origins) {
+    std::array<std::pair<int, long long>, 3> key{};
+    for (std::size_t j = 0; j < 3; ++j)
+      key[j] = o.vertex[j] < 0 ? std::pair<int, long long>{-1, 0}
+                               : std::pair<int, long long>{old_weld[static_cast<std::size_t>(o.vertex[j])],
+                                                           std::llround(1e5 * static_cast<double>(o.weight[j]))};
+    std::sort(key.begin(), key.end());
+    out.push_back(first.try_emplace(key, static_cast<int>(out.size())).first->second);
+  }
+  return out;
+}
+
 /// Directed welded edges and their multiplicity.
 inline std::map<std::pair<int, int>, int> directed_edges(const Faces& f, const std::vector<int>& w) {
   std::map<std::pair<int, int>, int> e;
@@ -164,6 +184,31 @@ inline std::array<float, 6> origin_key(const cgamesh::mesh::VertexSource& s) {
   std::sort(slots.begin(), slots.end());
   return {static_cast<float>(slots[0].first), slots[0].second, static_cast<float>(slots[1].first), slots[1].second,
           static_cast<float>(slots[2].first), slots[2].second};
+}
+
+/// Re-animating a result of local surgery on mesh `src` of `before`: at each time, every copied
+/// old vertex moves exactly as in the untouched model, and vertices made from the same point of
+/// the input surface (seam and tear copies) move together, so no seam cracks.
+inline void expect_reanimates_like(const cgamesh::anim::RiggedModel& before, std::size_t src,
+                                   const cgamesh::anim::RiggedModel& after, std::size_t dst,
+                                   const std::vector<cgamesh::mesh::VertexSource>& origins, double tolerance) {
+  const cgamesh::mesh::Mesh& m = after.meshes[dst];
+  for (double t : {0.3, 1.1}) {
+    const Points now = skinned(after, m, t);
+    const Points old = skinned(before, before.meshes[src], t);
+    std::map<std::array<float, 6>, Eigen::Vector3f> seen;
+    for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
+      const cgamesh::mesh::VertexSource& o = origins[static_cast<std::size_t>(v)];
+      if (o.count() == 1) {
+        ASSERT_LE((now.row(v) - old.row(o.vertex[0])).norm(), tolerance) << "old vertex " << o.vertex[0] << " t=" << t;
+        continue;
+      }
+      const auto [it, added] = seen.try_emplace(origin_key(o), now.row(v).transpose());
+      if (!added) {
+        ASSERT_LE((it->second - now.row(v).transpose()).norm(), tolerance) << "copies of a new vertex part, t=" << t;
+      }
+    }
+  }
 }
 
 /// Uniform random unit vector.

@@ -31,6 +31,10 @@ class TriangleBvh {
   TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces);
 
   [[nodiscard]] int face_count() const noexcept { return static_cast<int>(order_.size()); }
+  /// Length of the diagonal of the box around every face (0 when empty).
+  [[nodiscard]] double diagonal() const noexcept {
+    return nodes_.empty() ? 0.0 : static_cast<double>((nodes_.front().hi - nodes_.front().lo).norm());
+  }
 
   /// Appends to `out` every face whose bounding box meets the slab |n·x − d| ≤ tolerance: all
   /// faces the plane n·x = d may touch (and a few more).

@@ -1,0 +1,80 @@
+#pragma once
+// Drilling a skinned model with a finite cylindrical drill (paper Algorithm 3, eqs. 18–20) into
+// a model with a hole that animates again.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/mesh/mesh.hpp"
+#include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/surgery/placement.hpp"
+#include "cgamesh/surgery/surface_index.hpp"
+
+namespace cgamesh::surgery {
+
+struct DrillOptions {
+  /// Line the hole with a tube between each entry rim and the exit rim that follows it along
+  /// the axis, so that a closed input stays closed (beyond the paper). Rims without a partner
+  /// are left open with a warning.
+  bool wall = false;
+  /// A rim with fewer points than this (or a disk lying inside one face) is too coarse: the
+  /// affected faces are split 1→4 (red-green, no T-junctions) and drilled again (paper
+  /// section 4.2.3). A chord replacing more than 4π / min_rim_points of the circle counts as
+  /// too coarse as well (the polygon would reach towards the axis). At least 3.
+  int min_rim_points = 6;
+  /// At most this many rounds of splitting; a rim still too coarse then gets a warning.
+  int max_refinements = 6;
+  /// Vertices closer to the cylinder than this (times the placed mesh's bounding-box diagonal)
+  /// count as on it: no sliver triangles, no points twice.
+  double snap = 1e-6;
+  Predicates predicates = Predicates::cga;
+};
+
+/// A drilled model: the skeleton and clips of the input; meshes the drill does not reach are
+/// copied, a mesh drilled away entirely is left out.
+struct ModelDrill {
+  anim::RiggedModel model;
+  /// Per output mesh: the input mesh it came from, the origin of each of its vertices, and the
+  /// #V×3 placed positions of its vertices.
+  std::vector<int> source_mesh;
+  std::vector<std::vector<mesh::VertexSource>> origins;
+  std::vector<mesh::RowMatrixXf<3>> placed;
+  int new_vertices = 0;         ///< output vertices that are not copies of input vertices
+  int intersection_points = 0;  ///< rim points on crossed edges (one per edge and seam side)
+  int faces_in = 0, faces_out = 0;
+  int faces_removed = 0;   ///< input faces replaced (re-triangulated, split or dropped)
+  int faces_affected = 0;  ///< faces of the (refined) surface the drill reaches
+  int refinements = 0;     ///< rounds of 1→4 splitting, over all meshes
+  int wall_triangles = 0;
+  int rims = 0;  ///< boundary loops (or chains, where the hole meets a mesh boundary) of the holes
+  std::vector<std::string> warnings;
+};
+
+/// Drills `model`, placed in `placement`, with the cylinder of radius `radius` around the axis
+/// from `base` B to `tip` A. As in Algorithm 3, a vertex is inside when its projection onto
+/// the plane Π ⟂ AB through B is closer to B than r; the faces pierced by the segment [B, A]
+/// and the faces reached from them through faces that meet the cylinder are affected, so the
+/// hole goes through every surface layer the drill body reaches and stops at the tip. Each
+/// crossed edge gets its intersection points from the quadratic Kα² + Lα + N = 0 of
+/// eqs. (18)–(20) (a double root is a touch, not a hole); the part of each affected face
+/// outside the cylinder is re-triangulated (the arcs become chords) and the rest removed. New
+/// vertices are points on old edges or faces, weighted as in section 4.3.
+/// Cost: the affected region, not the mesh (apart from assembling the output meshes).
+/// @param[in] index   SurfaceIndex::build(model, placement)
+/// @param[in] tip, base  world-space end points A and B of the drill axis
+/// @throws InvalidInputError for radius <= 0 or NaN, tip == base, non-finite points, bad
+///         options, or a placement or index that does not fit the model.
+/// @throws TopologyError when the axis segment [B, A] meets no face (the drill misses).
+[[nodiscard]] ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
+                               const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
+                               const DrillOptions& options = {});
+
+/// The same, building the SurfaceIndex first (O(F log F)); build it once and use the overload
+/// above to drill a placed model many times.
+[[nodiscard]] ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const Eigen::Vector3d& tip,
+                               const Eigen::Vector3d& base, double radius, const DrillOptions& options = {});
+
+}  // namespace cgamesh::surgery

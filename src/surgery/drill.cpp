@@ -1,0 +1,815 @@
+#include "cgamesh/surgery/drill.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "cgamesh/cga/geometry.hpp"
+#include "cgamesh/cga/products.hpp"
+#include "cgamesh/errors.hpp"
+
+#include "convex_triangulation.hpp"
+#include "surgery_common.hpp"
+
+namespace cgamesh::surgery {
+namespace {
+
+using mesh::RowMatrixXf;
+using mesh::VertexSource;
+using Triangle = std::array<int, 3>;
+
+/// The drill: the axis from B along the unit vector n, the radius, and its CGA objects in the
+/// drill's own frame (origin at B, so that the conformal points of a small region far from the
+/// world origin keep their precision: X·Y is translation invariant).
+struct Cylinder {
+  Eigen::Vector3d base, axis;
+  double radius = 0;
+  cga::Vector<double> sphere;  ///< S = eo − ½ r² e∞: the sphere of radius r about B (eq. 4)
+  cga::Vector<double> plane;   ///< Π = n: the plane ⟂ AB through B (eq. 5)
+  Predicates predicates = Predicates::cga;
+  Eigen::Vector3d e1, e2;  ///< an orthonormal basis of Π, for angles about the axis
+};
+
+/// A vertex of the region being drilled: an input vertex, or a new point of an input edge or
+/// face (a midpoint of a refinement, an intersection point).
+struct Vertex {
+  int old = -1;         ///< input vertex, or −1
+  VertexSource source;  ///< where it comes from in the input mesh
+  Eigen::Vector3d placed;
+  int weld = -1;              ///< seam copies share it
+  double s = 0;               ///< ρ² − r² (ρ: distance of its projection onto Π from B); 0 on the cylinder
+  double h = 0;               ///< X·Π: height above Π
+  cga::Vector<double> point;  ///< X = up(x − B) (cga predicates)
+};
+
+/// How the cylinder crosses an edge, from its end with the smaller welded id (so that both
+/// sides of a seam compute the same points).
+struct EdgeCut {
+  int roots = 0;  ///< intersection points strictly inside the edge
+  std::array<double, 2> alpha{0, 0};
+  std::array<int, 2> weld{-1, -1};                  ///< welded ids of the intersection points
+  std::array<bool, 3> inside{false, false, false};  ///< sub-segment k (between points k, k+1) in the drill
+  bool any_inside = false;
+};
+
+struct Face {
+  Triangle v;
+  int origin;     ///< the input face it lies in
+  bool original;  ///< still the input face itself
+  bool alive = true;
+  int visited = -1;  ///< pass of the last search that reached it
+};
+
+/// A chord replacing an arc of the circle: the closing edge p -> e of a kept polygon.
+struct Chord {
+  int p, e;
+};
+
+/// One pass over the affected region: which faces the drill meets and what is left of them.
+struct Pass {
+  std::vector<int> affected;
+  std::vector<int> corners;                  ///< kept polygons, flattened
+  std::vector<std::array<int, 3>> polygons;  ///< face, first corner, corner count
+  std::vector<Chord> chords;
+  int disks_inside = 0;  ///< faces the disk lies inside of (no point of their boundary in the drill)
+  int coarse_arcs = 0;   ///< chords replacing too long an arc
+};
+
+/// A boundary loop (or chain) of chords around the hole, as a sequence of chords.
+struct Rim {
+  std::vector<int> chords;
+  bool closed = false;
+};
+
+/// Signed angle from u to v about n, in (−π, π].
+double angle_about(const Eigen::Vector3d& n, const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  return std::atan2(n.dot(u.cross(v)), u.dot(v));
+}
+
+class Driller {
+ public:
+  Driller(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const MeshIndex& index, const Cylinder& cylinder,
+          const DrillOptions& options)
+      : mesh_(mesh),
+        placed_(placed),
+        index_(index),
+        c_(cylinder),
+        options_(options),
+        nv_(static_cast<int>(mesh.vertex_count())),
+        next_weld_(nv_) {
+    tolerance_ = options.snap * index.bvh.diagonal();
+    s_tolerance_ = tolerance_ * (2 * c_.radius + tolerance_);
+  }
+
+  /// Drills from the faces the axis pierces; fills `edit` and the counters.
+  void run(const std::vector<mesh::SegmentHit>& hits, LocalEdit& edit, ModelDrill& out) {
+    std::vector<int> seeds;
+    for (const auto& hit : hits) seeds.push_back(slot_of(hit.face));
+    Pass pass = analyse(seeds);
+    int refinements = 0;
+    while (too_coarse(pass) && refinements < options_.max_refinements) {
+      refine(pass.affected);
+      ++refinements;
+      std::vector<int> alive;
+      for (std::size_t f = 0; f < faces_.size(); ++f)
+        if (faces_[f].alive) alive.push_back(static_cast<int>(f));
+      pass = analyse(alive);
+    }
+    const std::string name = "mesh '" + mesh_.name + "'";
+    if (pass.disks_inside > 0)
+      out.warnings.push_back(name + ": the drill lies inside a face even after " + std::to_string(refinements) +
+                             " refinements; no hole there");
+    else if (too_coarse(pass))
+      out.warnings.push_back(name + ": a rim of the hole is still coarse (fewer than " +
+                             std::to_string(options_.min_rim_points) + " points, or a chord over a long arc) after " +
+                             std::to_string(refinements) + " refinements");
+    const std::vector<Rim> rims = find_rims(pass);
+    std::vector<Triangle> tube;
+    if (options_.wall) tube = wall(pass, rims, name, out.warnings);
+    emit(pass, tube, edit, out);
+    out.refinements += refinements;
+    out.faces_affected += static_cast<int>(pass.affected.size());
+    out.wall_triangles += static_cast<int>(tube.size());
+    out.rims += static_cast<int>(rims.size());
+  }
+
+ private:
+  // ---- the region: vertices and faces, pulled in from the input on demand ----
+
+  /// Conformal point, height and cylinder value of a placed point (the point-versus-cylinder
+  /// predicate of section 4.2.3): ρ² − r² = −2 X·S − (X·Π)², distances of conformal points
+  /// being −2 X·Y; or the same in Euclidean terms.
+  void probe(Vertex& v) const {
+    const Eigen::Vector3d d = v.placed - c_.base;
+    if (c_.predicates == Predicates::cga) {
+      v.point = cga::up<double>(d);
+      v.h = cga::scalar_product(v.point, c_.plane);
+      v.s = -2 * cga::scalar_product(v.point, c_.sphere) - v.h * v.h;
+    } else {
+      v.h = c_.axis.dot(d);
+      v.s = d.squaredNorm() - v.h * v.h - c_.radius * c_.radius;
+    }
+    if (std::abs(v.s) <= s_tolerance_) v.s = 0;
+  }
+
+  int add_vertex(Vertex v) {
+    probe(v);
+    vertices_.push_back(std::move(v));
+    return static_cast<int>(vertices_.size()) - 1;
+  }
+
+  int local_of_old(int old) {
+    const auto [it, added] = local_of_old_.try_emplace(old, static_cast<int>(vertices_.size()));
+    if (added) {
+      Vertex v;
+      v.old = old;
+      v.source = VertexSource::copy(old);
+      v.placed = placed_.row(old).cast<double>().transpose();
+      v.weld = index_.weld[static_cast<std::size_t>(old)];
+      add_vertex(std::move(v));
+    }
+    return it->second;
+  }
+
+  [[nodiscard]] const Vertex& vertex(int x) const { return vertices_[static_cast<std::size_t>(x)]; }
+  [[nodiscard]] int weld(int x) const { return vertex(x).weld; }
+
+  /// (a, b) ordered from the smaller welded id: the order both sides of a seam agree on.
+  [[nodiscard]] std::pair<int, int> canonical(int a, int b) const {
+    const int wa = weld(a), wb = weld(b);
+    return wa < wb || (wa == wb && a < b) ? std::pair{a, b} : std::pair{b, a};
+  }
+
+  /// The input face `f` as a face of the region (added on first use).
+  int slot_of(int f) {
+    const auto [it, added] = slot_of_old_.try_emplace(f, static_cast<int>(faces_.size()));
+    if (added) {
+      const Triangle v{local_of_old(mesh_.faces(f, 0)), local_of_old(mesh_.faces(f, 1)),
+                       local_of_old(mesh_.faces(f, 2))};
+      add_face(v, f, true);
+    }
+    return it->second;
+  }
+
+  void add_face(const Triangle& v, int origin, bool original) {
+    const int slot = static_cast<int>(faces_.size());
+    faces_.push_back({v, origin, original});
+    for (int k = 0; k < 3; ++k)
+      half_edges_.try_emplace(
+          directed_key(weld(v[static_cast<std::size_t>(k)]), weld(v[static_cast<std::size_t>((k + 1) % 3)])),
+          3 * slot + k);
+  }
+
+  void kill(int slot) {
+    Face& f = faces_[static_cast<std::size_t>(slot)];
+    f.alive = false;
+    for (int k = 0; k < 3; ++k) {
+      const auto it = half_edges_.find(
+          directed_key(weld(f.v[static_cast<std::size_t>(k)]), weld(f.v[static_cast<std::size_t>((k + 1) % 3)])));
+      if (it != half_edges_.end() && it->second == 3 * slot + k) half_edges_.erase(it);
+    }
+  }
+
+  /// The face across edge k of face `slot` (pulled in from the input when it is not in the
+  /// region yet), or −1 on a boundary or non-manifold edge.
+  int neighbor(int slot, int k) {
+    const Face& f = faces_[static_cast<std::size_t>(slot)];
+    const int u = f.v[static_cast<std::size_t>(k)], v = f.v[static_cast<std::size_t>((k + 1) % 3)];
+    if (const auto it = half_edges_.find(directed_key(weld(v), weld(u))); it != half_edges_.end())
+      return it->second / 3;
+    // Split faces are bordered by split faces only (red-green keeps the region conforming):
+    // only an input face borders input faces outside the region.
+    if (!f.original) return -1;
+    const int g = index_.neighbor[static_cast<std::size_t>(f.origin)][static_cast<std::size_t>(k)];
+    if (g < 0 || slot_of_old_.contains(g)) return -1;
+    return slot_of(g);
+  }
+
+  // ---- the cylinder against edges and faces ----
+
+  /// |P(a) − P(b)|², eq. (18): −2 X_a·X_b − (X_a·Π − X_b·Π)².
+  [[nodiscard]] double projected_length2(const Vertex& a, const Vertex& b) const {
+    const double dh = a.h - b.h;
+    if (c_.predicates == Predicates::cga) return std::max(0.0, -2 * cga::scalar_product(a.point, b.point) - dh * dh);
+    const Eigen::Vector3d d = a.placed - b.placed;
+    return std::max(0.0, d.squaredNorm() - dh * dh);
+  }
+
+  /// Intersections of the cylinder with edge (a, b): with ν = P(a), μ = P(b) and
+  /// ξ = αμ + (1 − α)ν, d²(ξ, B) − r² = Kα² + Lα + N where K is eq. (18), N = s(a) is eq. (20)
+  /// and L = s(b) − s(a) − K is eq. (19) (the quadratic is s(b) at α = 1). The point
+  /// (1 − α) a + α b is on the cylinder exactly, projection being affine.
+  const EdgeCut& edge_cut(int x, int y) {
+    const auto [a, b] = canonical(x, y);
+    const auto [it, added] = edge_cuts_.try_emplace(edge_key(weld(a), weld(b)));
+    EdgeCut& e = it->second;
+    if (!added) return e;
+    const Vertex &va = vertex(a), &vb = vertex(b);
+    const double sa = va.s, sb = vb.s, K = projected_length2(va, vb);
+    const double L = sb - sa - K, N = sa;
+    const auto f = [&](double t) { return (K * t + L) * t + N; };
+    const double length = std::sqrt(K);
+    // Roots q/K and N/q with q = −(L ± √disc)/2: stable, and right for an edge along the
+    // axis too (K → 0: the quadratic becomes linear and N/q its root).
+    const double disc = L * L - 4 * K * N;
+    const double q = -0.5 * (L + std::copysign(std::sqrt(std::max(disc, 0.0)), L));
+    std::array<double, 2> t{K > 0 ? q / K : HUGE_VAL, q != 0 ? N / q : HUGE_VAL};
+    if (t[0] > t[1]) std::swap(t[0], t[1]);
+    if ((sa < 0) != (sb < 0) && sa != 0 && sb != 0) {
+      // One end inside, one outside: exactly one root in (0, 1), the one nearer to it.
+      const auto off = [](double r) { return std::max(-r, r - 1); };
+      e.alpha[0] = std::clamp(off(t[0]) < off(t[1]) ? t[0] : t[1], 0.0, 1.0);
+      e.roots = 1;
+    } else if (sa >= 0 && sb >= 0 && disc > 0 && (t[1] - t[0]) * length > tolerance_) {
+      // Both ends outside or on: two roots, one (an end on the cylinder), or a touch (a double
+      // root: no hole). Roots within the tolerance of an end or of each other are dropped.
+      for (double r : t)
+        if (r * length > tolerance_ && (1 - r) * length > tolerance_) e.alpha[static_cast<std::size_t>(e.roots++)] = r;
+    }
+    for (int k = 0; k < e.roots; ++k) e.weld[static_cast<std::size_t>(k)] = next_weld_++;
+    // Sub-segments: inside when an end is strictly inside; between two points on the cylinder
+    // (a chord), when the middle is deeper than the tolerance.
+    std::array<double, 4> at{0, 0, 0, 0};
+    std::array<double, 4> s{sa, 0, 0, 0};
+    for (int k = 0; k < e.roots; ++k) at[static_cast<std::size_t>(k + 1)] = e.alpha[static_cast<std::size_t>(k)];
+    at[static_cast<std::size_t>(e.roots + 1)] = 1;
+    s[static_cast<std::size_t>(e.roots + 1)] = sb;
+    for (std::size_t k = 0; k <= static_cast<std::size_t>(e.roots); ++k) {
+      const bool in =
+          s[k] < 0 || s[k + 1] < 0 || (s[k] == 0 && s[k + 1] == 0 && f(0.5 * (at[k] + at[k + 1])) < -s_tolerance_);
+      e.inside[k] = in;
+      e.any_inside = e.any_inside || in;
+    }
+    return e;
+  }
+
+  /// The vertex at root k of edge (a, b) on this side of a seam.
+  int crossing(int x, int y, int k) {
+    const auto [a, b] = canonical(x, y);
+    const EdgeCut& e = edge_cut(a, b);
+    auto& slot = crossing_of_edge_.try_emplace(edge_key(a, b), std::array<int, 2>{-1, -1}).first->second;
+    int& id = slot[static_cast<std::size_t>(k)];
+    if (id < 0) {
+      const double t = e.alpha[static_cast<std::size_t>(k)];
+      Vertex v;
+      v.source = blend(a, b, t);
+      v.placed = (1 - t) * vertex(a).placed + t * vertex(b).placed;
+      v.weld = e.weld[static_cast<std::size_t>(k)];
+      id = add_vertex(std::move(v));
+      new_crossings_.insert(id);
+    }
+    return id;
+  }
+
+  /// The origin of (1 − t) a + t b in the input mesh: all the region's points lie in one input
+  /// face, so at most three input vertices, ordered by welded id (seam copies blend alike).
+  [[nodiscard]] VertexSource blend(int a, int b, double t) const {
+    std::array<std::pair<int, float>, 6> slots{};
+    int n = 0;
+    const auto add = [&](const VertexSource& s, double w) {
+      for (int k = 0; k < s.count(); ++k) {
+        const int v = s.vertex[static_cast<std::size_t>(k)];
+        const auto weight = static_cast<float>(w * s.weight[static_cast<std::size_t>(k)]);
+        auto* it = std::find_if(slots.begin(), slots.begin() + n, [&](const auto& p) { return p.first == v; });
+        if (it == slots.begin() + n)
+          slots[static_cast<std::size_t>(n++)] = {v, weight};
+        else
+          it->second += weight;
+      }
+    };
+    add(vertex(a).source, 1 - t);
+    add(vertex(b).source, t);
+    if (n > 3) throw std::logic_error("drill: a new point blends more than three input vertices");
+    const auto before = [&](const std::pair<int, float>& x, const std::pair<int, float>& y) {
+      const int wx = index_.weld[static_cast<std::size_t>(x.first)],
+                wy = index_.weld[static_cast<std::size_t>(y.first)];
+      return wx < wy || (wx == wy && x.first < y.first);
+    };
+    for (int k = 1; k < n; ++k)  // insertion sort of at most three
+      for (int j = k; j > 0 && before(slots[static_cast<std::size_t>(j)], slots[static_cast<std::size_t>(j - 1)]); --j)
+        std::swap(slots[static_cast<std::size_t>(j)], slots[static_cast<std::size_t>(j - 1)]);
+    VertexSource out;
+    for (int k = 0; k < n; ++k) {
+      out.vertex[static_cast<std::size_t>(k)] = slots[static_cast<std::size_t>(k)].first;
+      out.weight[static_cast<std::size_t>(k)] = slots[static_cast<std::size_t>(k)].second;
+    }
+    return out;
+  }
+
+  /// Whether the axis line passes through the projection of face f onto Π (a disk lying
+  /// inside the face meets no edge of it).
+  [[nodiscard]] bool axis_through(const Face& f) const {
+    std::array<Eigen::Vector3d, 3> d;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vertex& v = vertex(f.v[k]);
+      d[k] = v.placed - c_.base - v.h * c_.axis;
+    }
+    const double o0 = c_.axis.dot(d[0].cross(d[1])), o1 = c_.axis.dot(d[1].cross(d[2])),
+                 o2 = c_.axis.dot(d[2].cross(d[0]));
+    return (o0 > 0 && o1 > 0 && o2 > 0) || (o0 < 0 && o1 < 0 && o2 < 0);
+  }
+
+  /// Step 2 of Algorithm 3's test: does face f meet the open drill?
+  bool meets(int slot) {
+    const Face& f = faces_[static_cast<std::size_t>(slot)];
+    for (int k = 0; k < 3; ++k)
+      if (edge_cut(f.v[static_cast<std::size_t>(k)], f.v[static_cast<std::size_t>((k + 1) % 3)]).any_inside)
+        return true;
+    return axis_through(f);
+  }
+
+  /// Algorithm 3, step 2: a breadth-first search from `seeds` through faces that meet the
+  /// drill; then steps 3 and 5: the kept polygons of each affected face.
+  Pass analyse(const std::vector<int>& seeds) {
+    ++pass_;
+    Pass pass;
+    std::vector<int> queue;
+    for (int s : seeds) {
+      Face& f = faces_[static_cast<std::size_t>(s)];
+      if (f.alive && f.visited != pass_ && (f.visited = pass_, meets(s))) queue.push_back(s);
+    }
+    while (!queue.empty()) {
+      const int s = queue.back();
+      queue.pop_back();
+      pass.affected.push_back(s);
+      for (int k = 0; k < 3; ++k) {
+        const int g = neighbor(s, k);
+        if (g < 0) continue;
+        Face& f = faces_[static_cast<std::size_t>(g)];
+        if (f.visited == pass_) continue;
+        f.visited = pass_;
+        if (meets(g)) queue.push_back(g);
+      }
+    }
+    for (int s : pass.affected) keep(s, pass);
+    return pass;
+  }
+
+  /// The part of face `slot` outside the drill: walking its boundary, each run outside the
+  /// drill from the point where it leaves the circle to where it enters it again, closed by the
+  /// chord back, is a convex polygon (a triangle minus a convex disk).
+  void keep(int slot, Pass& pass) {
+    const Face f = faces_[static_cast<std::size_t>(slot)];
+    std::array<int, 9> point{};
+    std::array<bool, 9> inside{};
+    int m = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int u = f.v[static_cast<std::size_t>(k)], v = f.v[static_cast<std::size_t>((k + 1) % 3)];
+      const EdgeCut& e = edge_cut(u, v);
+      const bool forward = canonical(u, v).first == u;
+      point[static_cast<std::size_t>(m)] = u;
+      for (int r = 0; r <= e.roots; ++r) {
+        const int j = forward ? r : e.roots - r;  // sub-segment in canonical order
+        inside[static_cast<std::size_t>(m)] = e.inside[static_cast<std::size_t>(j)];
+        if (r < e.roots) point[static_cast<std::size_t>(++m)] = crossing(u, v, forward ? r : e.roots - 1 - r);
+      }
+      ++m;
+    }
+    const auto first = static_cast<int>(std::find(inside.begin(), inside.begin() + m, true) - inside.begin());
+    if (first == m) {  // nothing of the boundary is inside: the disk lies inside the face
+      ++pass.disks_inside;
+      add_polygon(pass, slot, {f.v.data(), 3});
+      return;
+    }
+    std::array<int, 9> run{};
+    for (int i = 0; i < m; ++i) {
+      const int at = (first + i) % m, before = (at + m - 1) % m;
+      if (!(inside[static_cast<std::size_t>(before)] && !inside[static_cast<std::size_t>(at)])) continue;
+      int n = 0;
+      for (int j = at;; j = (j + 1) % m) {
+        run[static_cast<std::size_t>(n++)] = point[static_cast<std::size_t>(j)];
+        if (inside[static_cast<std::size_t>(j)]) break;
+      }
+      if (n < 3) continue;  // a chord along an edge: nothing kept
+      add_polygon(pass, slot, {run.data(), static_cast<std::size_t>(n)});
+      const Chord chord{run[static_cast<std::size_t>(n - 1)], run[0]};
+      pass.chords.push_back(chord);
+      if (arc(chord, {run.data(), static_cast<std::size_t>(n)}) > 4 * std::numbers::pi / options_.min_rim_points)
+        ++pass.coarse_arcs;
+    }
+  }
+
+  static void add_polygon(Pass& pass, int slot, std::span<const int> corners) {
+    pass.polygons.push_back({slot, static_cast<int>(pass.corners.size()), static_cast<int>(corners.size())});
+    pass.corners.insert(pass.corners.end(), corners.begin(), corners.end());
+  }
+
+  [[nodiscard]] Eigen::Vector3d projected(int x) const {
+    const Vertex& v = vertex(x);
+    return v.placed - c_.base - v.h * c_.axis;
+  }
+
+  /// The arc of the circle a chord replaces: on the far side of the chord from its polygon.
+  [[nodiscard]] double arc(const Chord& chord, std::span<const int> polygon) const {
+    const Eigen::Vector3d p = projected(chord.p), e = projected(chord.e);
+    const double phi = std::abs(angle_about(c_.axis, p, e));
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int x : polygon) centroid += projected(x);
+    centroid /= static_cast<double>(polygon.size());
+    const double axis_side = c_.axis.dot((e - p).cross(-p)), polygon_side = c_.axis.dot((e - p).cross(centroid - p));
+    return axis_side * polygon_side > 0 ? 2 * std::numbers::pi - phi : phi;
+  }
+
+  [[nodiscard]] static int rim_points(const Rim& rim) {
+    return static_cast<int>(rim.chords.size()) + (rim.closed ? 0 : 1);
+  }
+
+  [[nodiscard]] bool too_coarse(const Pass& pass) const {
+    if (pass.affected.empty()) return false;
+    if (pass.disks_inside > 0 || pass.coarse_arcs > 0) return true;
+    for (const Rim& rim : find_rims(pass))
+      if (rim_points(rim) < options_.min_rim_points) return true;
+    return false;
+  }
+
+  /// Chains the chords into rims by welded ids (seam copies join).
+  [[nodiscard]] std::vector<Rim> find_rims(const Pass& pass) const {
+    std::unordered_map<int, int> from, to;  // welded id -> chord leaving / arriving
+    std::unordered_set<int> pinched;        // welded ids with two chords leaving
+    for (std::size_t c = 0; c < pass.chords.size(); ++c) {
+      if (!from.try_emplace(weld(pass.chords[c].p), static_cast<int>(c)).second) pinched.insert(weld(pass.chords[c].p));
+      to.try_emplace(weld(pass.chords[c].e), static_cast<int>(c));
+    }
+    std::vector<char> used(pass.chords.size(), 0);
+    std::vector<Rim> rims;
+    for (std::size_t c0 = 0; c0 < pass.chords.size(); ++c0) {
+      if (used[c0] != 0) continue;
+      // Back to the start of a chain (or once around a loop).
+      auto start = static_cast<int>(c0);
+      for (std::size_t steps = 0; steps < pass.chords.size(); ++steps) {
+        const auto it = to.find(weld(pass.chords[static_cast<std::size_t>(start)].p));
+        if (it == to.end() || used[static_cast<std::size_t>(it->second)] != 0 || it->second == static_cast<int>(c0))
+          break;
+        start = it->second;
+      }
+      Rim rim;
+      for (int c = start;;) {
+        used[static_cast<std::size_t>(c)] = 1;
+        rim.chords.push_back(c);
+        const auto it = from.find(weld(pass.chords[static_cast<std::size_t>(c)].e));
+        if (it == from.end()) break;
+        if (it->second == start) {
+          rim.closed = !pinched.contains(weld(pass.chords[static_cast<std::size_t>(start)].p));
+          break;
+        }
+        if (used[static_cast<std::size_t>(it->second)] != 0) break;
+        c = it->second;
+      }
+      rims.push_back(std::move(rim));
+    }
+    return rims;
+  }
+
+  // ---- refinement ----
+
+  int midpoint(int x, int y) {
+    const auto [a, b] = canonical(x, y);
+    const auto [it, added] = midpoint_of_edge_.try_emplace(edge_key(a, b), -1);
+    if (added) {
+      Vertex v;
+      v.source = blend(a, b, 0.5);
+      v.placed = 0.5 * (vertex(a).placed + vertex(b).placed);
+      const auto w = midpoint_weld_.try_emplace(edge_key(weld(a), weld(b)), next_weld_);
+      if (w.second) ++next_weld_;
+      v.weld = w.first->second;
+      it->second = add_vertex(std::move(v));
+    }
+    return it->second;
+  }
+
+  /// Red-green refinement: the faces in `red` and every face with two or more split edges are
+  /// split 1 -> 4 at their edge midpoints, faces with one split edge 1 -> 2 (no T-junctions).
+  void refine(const std::vector<int>& red_faces) {
+    std::unordered_set<std::uint64_t> split;  // welded undirected edges
+    std::unordered_set<int> red;
+    std::vector<int> queue, candidates;
+    const auto edge_of = [&](int slot, int k) {
+      const Face& f = faces_[static_cast<std::size_t>(slot)];
+      return edge_key(weld(f.v[static_cast<std::size_t>(k)]), weld(f.v[static_cast<std::size_t>((k + 1) % 3)]));
+    };
+    const auto make_red = [&](int slot) {
+      if (!red.insert(slot).second) return;
+      for (int k = 0; k < 3; ++k) split.insert(edge_of(slot, k));
+      queue.push_back(slot);
+    };
+    for (int s : red_faces) make_red(s);
+    const auto marked = [&](int slot) {
+      int n = 0;
+      for (int k = 0; k < 3; ++k) n += split.contains(edge_of(slot, k)) ? 1 : 0;
+      return n;
+    };
+    while (!queue.empty()) {
+      const int s = queue.back();
+      queue.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const int g = neighbor(s, k);
+        if (g < 0 || red.contains(g)) continue;
+        if (marked(g) >= 2)
+          make_red(g);
+        else
+          candidates.push_back(g);
+      }
+    }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (int s : red) {
+      const Face f = faces_[static_cast<std::size_t>(s)];
+      kill(s);
+      const int a = f.v[0], b = f.v[1], c = f.v[2];
+      const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+      add_face({a, ab, ca}, f.origin, false);
+      add_face({ab, b, bc}, f.origin, false);
+      add_face({ca, bc, c}, f.origin, false);
+      add_face({ab, bc, ca}, f.origin, false);
+    }
+    for (int s : candidates) {
+      if (red.contains(s)) continue;
+      const Face f = faces_[static_cast<std::size_t>(s)];
+      int k = 0;
+      while (!split.contains(
+          edge_key(weld(f.v[static_cast<std::size_t>(k)]), weld(f.v[static_cast<std::size_t>((k + 1) % 3)]))))
+        ++k;
+      kill(s);
+      const int u = f.v[static_cast<std::size_t>(k)], w = f.v[static_cast<std::size_t>((k + 1) % 3)],
+                o = f.v[static_cast<std::size_t>((k + 2) % 3)];
+      const int m = midpoint(u, w);
+      add_face({u, m, o}, f.origin, false);
+      add_face({m, w, o}, f.origin, false);
+    }
+  }
+
+  // ---- the wall ----
+
+  /// Stitches each entry rim to the exit rim that follows it along the axis with a tube: the
+  /// zipper merges the two loops by angle about the axis, each triangle holding the reverse of
+  /// one rim edge, so the surface stays closed and consistently oriented.
+  std::vector<Triangle> wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name,
+                             std::vector<std::string>& warnings) const {
+    struct Loop {
+      std::vector<int> points;  ///< in the rim's own direction
+      double winding = 0, height = 0;
+    };
+    std::vector<Loop> loops;
+    int open = 0;
+    for (const Rim& rim : rims) {
+      if (!rim.closed) {
+        ++open;
+        continue;
+      }
+      Loop loop;
+      for (int c : rim.chords) {
+        const Chord& chord = pass.chords[static_cast<std::size_t>(c)];
+        loop.points.push_back(chord.p);
+        loop.winding += angle_about(c_.axis, projected(chord.p), projected(chord.e));
+        loop.height += vertex(chord.p).h;
+      }
+      loop.height /= static_cast<double>(loop.points.size());
+      // A loop around the axis winds ±2π: + where the surface faces B (an entry), − an exit.
+      if (std::abs(loop.winding) < std::numbers::pi) {
+        ++open;
+        continue;
+      }
+      loops.push_back(std::move(loop));
+    }
+    std::sort(loops.begin(), loops.end(), [](const Loop& x, const Loop& y) { return x.height < y.height; });
+    std::vector<Triangle> tube;
+    for (std::size_t i = 0; i < loops.size(); ++i) {
+      if (loops[i].winding < 0 || i + 1 == loops.size() || loops[i + 1].winding > 0) {
+        ++open;
+        continue;
+      }
+      zipper(loops[i].points, loops[i + 1].points, tube);
+      ++i;
+    }
+    if (open > 0)
+      warnings.push_back(name + ": " + std::to_string(open) +
+                         " rim(s) of the hole have no partner across the material (the drill stops inside, the hole " +
+                         "meets a mesh boundary, or the surfaces face alike); left open");
+    return tube;
+  }
+
+  [[nodiscard]] double angle(int x) const {
+    const Eigen::Vector3d d = projected(x);
+    return std::atan2(d.dot(c_.e2), d.dot(c_.e1));
+  }
+
+  /// Merges loop a (winding +) with loop b (winding −, walked backwards) by angle.
+  void zipper(const std::vector<int>& a, const std::vector<int>& b, std::vector<Triangle>& tube) const {
+    const auto wrap = [](double t) { return std::remainder(t, 2 * std::numbers::pi); };
+    const int m = static_cast<int>(a.size()), n = static_cast<int>(b.size());
+    const double a0 = angle(a[0]);
+    int j0 = 0;
+    for (int j = 1; j < n; ++j)
+      if (std::abs(wrap(angle(b[static_cast<std::size_t>(j)]) - a0)) <
+          std::abs(wrap(angle(b[static_cast<std::size_t>(j0)]) - a0)))
+        j0 = j;
+    const auto A = [&](int i) { return a[static_cast<std::size_t>(i % m)]; };
+    const auto B = [&](int j) { return b[static_cast<std::size_t>(((j0 - j) % n + n) % n)]; };
+    double ua = a0, ub = a0 + wrap(angle(B(0)) - a0);
+    int i = 0, j = 0;
+    while (i < m || j < n) {
+      const double next_a = ua + wrap(angle(A(i + 1)) - angle(A(i)));
+      const double next_b = ub + wrap(angle(B(j + 1)) - angle(B(j)));
+      if (j == n || (i < m && next_a <= next_b)) {
+        tube.push_back({A(i + 1), A(i), B(j)});
+        ua = next_a;
+        ++i;
+      } else {
+        tube.push_back({B(j), B(j + 1), A(i)});
+        ub = next_b;
+        ++j;
+      }
+    }
+  }
+
+  // ---- output ----
+
+  int extended(int x, LocalEdit& edit, std::unordered_map<int, int>& ids) const {
+    const Vertex& v = vertex(x);
+    if (v.old >= 0) return v.old;
+    const auto [it, added] = ids.try_emplace(x, -1);
+    if (added) it->second = edit.add_vertex(v.source, v.placed, nv_);
+    return it->second;
+  }
+
+  /// Step 5: the input faces of the region that changed are replaced by their pieces.
+  void emit(const Pass& pass, const std::vector<Triangle>& tube, LocalEdit& edit, ModelDrill& out) const {
+    std::unordered_set<int> affected(pass.affected.begin(), pass.affected.end());
+    for (const auto& [old, slot] : slot_of_old_)
+      if (!faces_[static_cast<std::size_t>(slot)].alive || affected.contains(slot)) edit.removed_faces.push_back(old);
+    std::sort(edit.removed_faces.begin(), edit.removed_faces.end());
+    std::unordered_map<int, int> ids;
+    const auto add = [&](int a, int b, int c) {
+      edit.new_faces.push_back({extended(a, edit, ids), extended(b, edit, ids), extended(c, edit, ids)});
+    };
+    for (std::size_t s = 0; s < faces_.size(); ++s) {
+      const Face& f = faces_[s];
+      if (f.alive && !f.original && !affected.contains(static_cast<int>(s))) add(f.v[0], f.v[1], f.v[2]);
+    }
+    std::vector<Eigen::Vector3d> corners;
+    std::vector<Triangle> triangles;
+    for (const auto& [slot, first, count] : pass.polygons) {
+      corners.clear();
+      triangles.clear();
+      for (int k = 0; k < count; ++k)
+        corners.push_back(vertex(pass.corners[static_cast<std::size_t>(first + k)]).placed);
+      detail::triangulate_convex(corners, triangles);
+      for (const Triangle& t : triangles)
+        add(pass.corners[static_cast<std::size_t>(first + t[0])], pass.corners[static_cast<std::size_t>(first + t[1])],
+            pass.corners[static_cast<std::size_t>(first + t[2])]);
+    }
+    for (const Triangle& t : tube) add(t[0], t[1], t[2]);
+    for (const auto& [x, id] : ids) out.intersection_points += new_crossings_.contains(x) ? 1 : 0;
+  }
+
+  const mesh::Mesh& mesh_;
+  const RowMatrixXf<3>& placed_;
+  const MeshIndex& index_;
+  const Cylinder& c_;
+  const DrillOptions& options_;
+  const int nv_;
+  int next_weld_;
+  double tolerance_ = 0, s_tolerance_ = 0;
+  int pass_ = 0;
+  std::vector<Vertex> vertices_;
+  std::vector<Face> faces_;
+  std::unordered_map<int, int> local_of_old_, slot_of_old_;
+  std::unordered_map<std::uint64_t, int> half_edges_;  ///< welded directed edge -> 3 · face + k
+  std::unordered_map<std::uint64_t, EdgeCut> edge_cuts_;
+  std::unordered_map<std::uint64_t, std::array<int, 2>> crossing_of_edge_;
+  std::unordered_map<std::uint64_t, int> midpoint_of_edge_, midpoint_weld_;
+  std::unordered_set<int> new_crossings_;
+};
+
+void require_finite(const Eigen::Vector3d& p, const char* what) {
+  if (!p.allFinite()) throw InvalidInputError(std::string("drill: the ") + what + " is not finite");
+}
+
+}  // namespace
+
+ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
+                 const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
+  require_placement_fits(model, placement);
+  require_finite(tip, "tip");
+  require_finite(base, "base");
+  if (!(radius > 0) || !std::isfinite(radius)) throw InvalidInputError("drill: the radius must be a finite number > 0");
+  if (!((tip - base).norm() > 0)) throw InvalidInputError("drill: the tip and the base are the same point");
+  if (options.min_rim_points < 3) throw InvalidInputError("drill: min_rim_points must be at least 3");
+  if (options.max_refinements < 0) throw InvalidInputError("drill: max_refinements must be >= 0");
+  if (!(options.snap >= 0) || !std::isfinite(options.snap)) throw InvalidInputError("drill: snap must be >= 0");
+  if (index.meshes.size() != model.meshes.size())
+    throw InvalidInputError("drill: the surface index does not fit the model");
+  for (std::size_t i = 0; i < model.meshes.size(); ++i)
+    if (static_cast<Eigen::Index>(index.meshes[i].weld.size()) != model.meshes[i].vertex_count() ||
+        static_cast<Eigen::Index>(index.meshes[i].neighbor.size()) != model.meshes[i].face_count())
+      throw InvalidInputError("drill: the surface index does not fit mesh '" + model.meshes[i].name + "'");
+
+  Cylinder c;
+  c.base = base;
+  c.axis = (tip - base).normalized();
+  c.radius = radius;
+  c.sphere = cga::make_vector<double>(0, 0, 0, -0.5 * radius * radius, 1);
+  c.plane = cga::make_vector<double>(c.axis.x(), c.axis.y(), c.axis.z(), 0, 0);
+  c.predicates = options.predicates;
+  c.e1 = any_perpendicular(c.axis);
+  c.e2 = c.axis.cross(c.e1);
+
+  std::vector<std::vector<mesh::SegmentHit>> hits(model.meshes.size());
+  bool any = false;
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    hits[i] = index.meshes[i].bvh.segment_hits(base, tip);
+    any = any || !hits[i].empty();
+  }
+  if (!any) throw TopologyError("drill: the drill misses the model (its axis from base to tip meets no face)");
+
+  ModelDrill out;
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    const mesh::Mesh& m = model.meshes[i];
+    out.faces_in += static_cast<int>(m.face_count());
+    if (hits[i].empty()) {
+      out.model.meshes.push_back(m);
+      out.source_mesh.push_back(static_cast<int>(i));
+      std::vector<mesh::VertexSource> identity(static_cast<std::size_t>(m.vertex_count()));
+      for (std::size_t v = 0; v < identity.size(); ++v) identity[v] = mesh::VertexSource::copy(static_cast<int>(v));
+      out.origins.push_back(std::move(identity));
+      out.placed.push_back(placement.positions[i]);
+      out.faces_out += static_cast<int>(m.face_count());
+      continue;
+    }
+    LocalEdit edit;
+    Driller(m, placement.positions[i], index.meshes[i], c, options).run(hits[i], edit, out);
+    out.faces_removed += static_cast<int>(edit.removed_faces.size());
+    EditedMesh e = apply_edit(m, placement.positions[i], edit);
+    for (const mesh::VertexSource& o : e.origins) out.new_vertices += o.count() > 1 ? 1 : 0;
+    if (e.mesh.face_count() == 0) {
+      out.warnings.push_back("mesh '" + m.name + "' is drilled away entirely");
+      continue;
+    }
+    out.faces_out += static_cast<int>(e.mesh.face_count());
+    out.model.meshes.push_back(std::move(e.mesh));
+    out.source_mesh.push_back(static_cast<int>(i));
+    out.origins.push_back(std::move(e.origins));
+    out.placed.push_back(std::move(e.placed));
+  }
+  out.model.skeleton = model.skeleton;
+  out.model.clips = model.clips;
+  out.model.warnings = model.warnings;
+  out.model.source_max_influences = model.source_max_influences;
+  return out;
+}
+
+ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const Eigen::Vector3d& tip,
+                 const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
+  return drill(model, placement, SurfaceIndex::build(model, placement), tip, base, radius, options);
+}
+
+}  // namespace cgamesh::surgery
