@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   cgamesh::cli::add_convert(app);
   cgamesh::cli::add_animate(app);
   cgamesh::cli::add_cut(app);
+  cgamesh::cli::add_tear(app);
   cgamesh::cli::add_drill(app);
   cgamesh::cli::add_algebra_demo(app);
   try {

@@ -15,6 +15,7 @@
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
+#include "cgamesh/surgery/tear.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 #include "cli_common.hpp"
 
@@ -163,6 +164,60 @@ struct DrillCommand {
   }
 };
 
+// ---- tear ----
+struct TearCommand {
+  std::string model, output;
+  std::vector<std::string> scalpels;
+  PlacementOptions placement;
+  surgery::TearOptions options;
+  bool euclidean = false;
+  bool json = false;
+
+  void run() {
+    std::vector<surgery::Scalpel> steps;
+    for (const std::string& s : scalpels) {
+      const auto v = parse_numbers(s, 6, "--scalpel");
+      steps.push_back({{v[0], v[1], v[2]}, {v[3], v[4], v[5]}});
+    }
+    if (steps.size() < 2) throw InvalidInputError("--scalpel: give the blade at 2 or more time steps");
+    if (!(options.open >= 0)) throw InvalidInputError("--open: the opening width must be >= 0");
+    const anim::RiggedModel m = io::load_model(model);
+    const auto start_place = std::chrono::steady_clock::now();
+    const surgery::Placement placed = surgery::place(m, placement.pose(m));
+    const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(m, placed);
+    const double place_ms = milliseconds_since(start_place);
+    options.predicates = euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
+    const auto start = std::chrono::steady_clock::now();
+    const surgery::ModelTear t = surgery::tear(m, placed, index, steps, options);
+    const double ms = milliseconds_since(start);
+    std::vector<mesh::RowMatrixXf<3>> positions = placed.positions;
+    positions[static_cast<std::size_t>(t.mesh)] = t.placed;
+    io::write_files_atomically(encode_result(t.model, positions, output));
+    Json path = Json::array();
+    for (const Eigen::Vector3d& x : t.path) path.push_back({x.x(), x.y(), x.z()});
+    const Json summary = {{"output", output},
+                          {"milliseconds", ms},
+                          {"placement_milliseconds", place_ms},
+                          {"predicates", euclidean ? "euclidean" : "cga"},
+                          {"mesh", t.mesh},
+                          {"new_vertices", t.new_vertices},
+                          {"intersection_points", t.intersection_points},
+                          {"faces_in", t.faces_in},
+                          {"faces_out", t.faces_out},
+                          {"faces_split", t.faces_split},
+                          {"path", path},
+                          {"warnings", t.warnings}};
+    if (json) {
+      std::cout << summary.dump(2) << "\n";
+      return;
+    }
+    std::cout << "tear " << model << " in " << ms << " ms: " << t.intersection_points << " path points over "
+              << steps.size() - 1 << " steps, " << t.faces_split << " faces split, " << t.faces_in << " -> "
+              << t.faces_out << " faces\n  -> " << output << "\n";
+    for (const auto& w : t.warnings) std::cout << "  warning: " << w << "\n";
+  }
+};
+
 }  // namespace
 
 void add_cut(CLI::App& app) {
@@ -196,6 +251,25 @@ void add_drill(CLI::App& app) {
       ->check(CLI::Range(3, 1 << 20));
   sub->add_option("--max-refinements", c->options.max_refinements, "at most this many rounds of 1->4 splits")
       ->check(CLI::Range(0, 20));
+  sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
+  c->placement.add_to(*sub);
+  sub->add_flag("--json", c->json, "print a machine-readable summary");
+  sub->callback([c] { c->run(); });
+}
+
+void add_tear(CLI::App& app) {
+  auto c = std::make_shared<TearCommand>();
+  CLI::App* sub = app.add_subcommand(
+      "tear", "Tear the surface along the path a scalpel sweeps over time steps (the model keeps skin and animations)");
+  sub->add_option("MODEL", c->model, "model file")->required();
+  sub->add_option("--scalpel", c->scalpels,
+                  "HX,HY,HZ,TX,TY,TZ: the blade (handle, tip; world space, as placed) at one time step; "
+                  "repeat for t0, t1, ... (at least 2)")
+      ->required();
+  sub->add_option("-o,--output", c->output, "OUT: .glb/.gltf (rigged) or .obj/.ply (as placed)")->required();
+  sub->add_option("--open", c->options.open, "opening width: the two sides move apart by up to this much (default 0)");
+  sub->add_flag("--own-side-influences", c->options.own_side_influences,
+                "each side of the tear takes influences from its own side only");
   sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
   c->placement.add_to(*sub);
   sub->add_flag("--json", c->json, "print a machine-readable summary");

@@ -1,5 +1,5 @@
 #pragma once
-// The surgery commands of the CLI: cut (and later tear, drill).
+// The surgery commands of the CLI: cut, tear and drill.
 
 #include <CLI/CLI.hpp>
 
@@ -7,5 +7,6 @@ namespace cgamesh::cli {
 
 void add_cut(CLI::App& app);
 void add_drill(CLI::App& app);
+void add_tear(CLI::App& app);
 
 }  // namespace cgamesh::cli

@@ -97,8 +97,8 @@ std::string coords(const Eigen::Vector3d& p) {
   return std::to_string(p.x()) + "," + std::to_string(p.y()) + "," + std::to_string(p.z());
 }
 
-/// A drill along z through CesiumMan's torso placed at `time` of its clip: tip, base.
-std::array<std::string, 2> torso_drill(double time) {
+/// The centre of CesiumMan's torso (at 60% of its height) placed at `time` of its clip.
+Eigen::Vector3d torso_centre(double time) {
   const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(demo_model());
   const auto placed = cgamesh::surgery::place(
       m, cgamesh::anim::sample(m.skeleton, m.clips[0], time, cgamesh::anim::BlendMode::format)).positions[0];
@@ -111,7 +111,12 @@ std::array<std::string, 2> torso_drill(double time) {
       sum += placed.row(v).cast<double>().transpose();
       ++n;
     }
-  const Eigen::Vector3d c = sum / n;
+  return sum / n;
+}
+
+/// A drill along z through CesiumMan's torso placed at `time` of its clip: tip, base.
+std::array<std::string, 2> torso_drill(double time) {
+  const Eigen::Vector3d c = torso_centre(time);
   return {coords(c + Eigen::Vector3d(0, 0, 2)), coords(c - Eigen::Vector3d(0, 0, 2))};
 }
 
@@ -177,6 +182,76 @@ TEST(CliDrill, FailuresWriteNothing) {
   expect_failure(f, {"drill", model, "--tip", "0,1,1", "--base", "0,1,-1", "-o", out.string()}, 2, "--radius", out);
   expect_failure(f, {"drill", (f.inputs / "missing.glb").string(), "--tip", "0,1,1", "--base", "0,1,-1", "--radius",
                      "0.1", "-o", out.string()},
+                 3, "no such file", out);
+}
+
+/// A scalpel stroke over the front of CesiumMan's torso placed at `time`: 3 blade positions
+/// (handle in front of the body, tip at the torso's centre line) moving up and sideways, clear
+/// of the arms.
+std::vector<std::string> torso_stroke(double time) {
+  const Eigen::Vector3d centre = torso_centre(time);
+  std::vector<std::string> out;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d c = centre + Eigen::Vector3d(-0.015 * i, 0.03 * i, 0);
+    out.push_back("--scalpel");
+    out.push_back(coords(c + Eigen::Vector3d(0, 0, 2)) + "," + coords(c));
+  }
+  return out;
+}
+
+TEST(CliTear, TearsTheAnimatedModelAndKeepsTheRig) {
+  TempDir dir;
+  const fs::path out = dir / "torn.glb";
+  std::vector<std::string> args{"tear", demo_model().string(), "--anim", "0", "--time", "1.2", "--open", "0.01",
+                                "-o", out.string(), "--json"};
+  for (const std::string& a : torso_stroke(1.2)) args.push_back(a);
+  const nlohmann::json j = parse_json(run_ok(dir, args));
+  EXPECT_GE(j["intersection_points"].get<int>(), 3);
+  EXPECT_EQ(j["path"].size(), j["intersection_points"].get<std::size_t>());
+  EXPECT_GE(j["new_vertices"].get<int>(), j["intersection_points"].get<int>());
+  EXPECT_EQ(j["faces_in"].get<int>(), 4672);
+  EXPECT_GT(j["faces_out"].get<int>(), 4672);
+  EXPECT_GT(j["faces_split"].get<int>(), 0);
+  EXPECT_GE(j["milliseconds"].get<double>(), 0.0);
+  EXPECT_EQ(j["predicates"], "cga");
+  const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(out);
+  ASSERT_EQ(m.meshes.size(), 1u);
+  EXPECT_FALSE(m.meshes[0].skin.empty());
+  EXPECT_EQ(m.meshes[0].face_count(), j["faces_out"].get<int>());
+  EXPECT_EQ(m.clips.size(), cgamesh::io::load_model(demo_model()).clips.size());
+  if (!cgamesh_test::validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing";
+  std::string log;
+  EXPECT_EQ(cgamesh_test::validate_gltf(out, log), 0) << log;
+  EXPECT_TRUE(contains(log, " 0 error(s)")) << log;
+}
+
+TEST(CliTear, EuclideanPredicatesGiveTheSamePath) {
+  TempDir dir;
+  std::vector<std::string> args{"tear", demo_model().string(), "--time", "0.5", "-o", (dir / "t.ply").string(), "--json"};
+  for (const std::string& a : torso_stroke(0.5)) args.push_back(a);
+  std::vector<std::string> eu = args;
+  eu.push_back("--euclidean");
+  const nlohmann::json ga = parse_json(run_ok(dir, args)), e = parse_json(run_ok(dir, eu));
+  EXPECT_EQ(e["predicates"], "euclidean");
+  EXPECT_EQ(ga["faces_out"], e["faces_out"]);
+  EXPECT_EQ(ga["path"].size(), e["path"].size());
+  EXPECT_EQ(read_ply_vertices(dir / "t.ply").rows(), 3273 + ga["new_vertices"].get<int>());
+}
+
+TEST(CliTear, FailuresWriteNothing) {
+  Failure f;
+  const fs::path out = f.outputs / "t.glb";
+  const std::string model = demo_model().string();
+  const std::string blade = "0,1,2,0,1,0";
+  expect_failure(f, {"tear", model, "--scalpel", "5,9,1,5,9,-1", "--scalpel", blade, "-o", out.string()}, 4,
+                 "does not meet the surface", out);
+  expect_failure(f, {"tear", model, "--scalpel", blade, "-o", out.string()}, 2, "2 or more", out);
+  expect_failure(f, {"tear", model, "--scalpel", "0,1,2,0,1", "--scalpel", blade, "-o", out.string()}, 2, "expected 6",
+                 out);
+  expect_failure(f, {"tear", model, "--scalpel", blade, "--scalpel", blade, "--open", "-1", "-o", out.string()}, 2,
+                 "--open", out);
+  expect_failure(f, {"tear", (f.inputs / "missing.glb").string(), "--scalpel", blade, "--scalpel", blade, "-o",
+                     out.string()},
                  3, "no such file", out);
 }
 
