@@ -1,4 +1,4 @@
-// Surgery on skinned models, operation only (the model is loaded and placed once): cut and
+// Surgery on skinned models, operation only (the model is loaded and placed once): cut, tear and
 // drill, with CGA predicates (X·Π, −2 X·S − (X·Π)²) against the same operation with Euclidean
 // predicates in the same binary, on CesiumMan (about the seed's 3k-vertex arm), ogre (124k
 // faces, when ../shared is present) and CesiumMan subdivided to over a million faces.
@@ -6,13 +6,16 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/cga/geometry.hpp"
+#include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/mesh/subdivide.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
+#include "cgamesh/surgery/tear.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
 namespace {
@@ -110,6 +113,46 @@ void BM_DrillCesiumMan(benchmark::State& state) { drill(state, &cesium()); }
 void BM_DrillOgre(benchmark::State& state) { drill(state, ogre()); }
 void BM_DrillMillion(benchmark::State& state) { drill(state, &million()); }
 
+/// Tears along a stroke of 3 blade positions over the front of the placed mesh: the blade
+/// points from in front of the body at its centre and moves sideways and up by 6% of the mesh's
+/// size in all; the SurfaceIndex is built once, outside the timed loop.
+void tear(benchmark::State& state, const Subject* s) {
+  if (s == nullptr) {
+    state.SkipWithError("model not found (../shared/data is not present)");
+    return;
+  }
+  const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(s->model, s->placement);
+  surgery::TearOptions options;
+  options.predicates = state.range(0) == 0 ? surgery::Predicates::cga : surgery::Predicates::euclidean;
+  options.open = 0.002 * index.meshes[0].bvh.diagonal();
+  const double size = index.meshes[0].bvh.diagonal();
+  const Eigen::Vector3d front = Eigen::Vector3d(0.1, 0.1, 1).normalized(), move(-0.5, 1, 0);
+  std::vector<surgery::Scalpel> steps;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d c = s->centre + 0.02 * size * i * move.normalized();
+    steps.push_back({c + size * front, c});
+  }
+  surgery::ModelTear t;
+  try {
+    t = surgery::tear(s->model, s->placement, index, steps, options);
+  } catch (const Error& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  for (auto _ : state) {
+    t = surgery::tear(s->model, s->placement, index, steps, options);
+    benchmark::DoNotOptimize(t.model.meshes.data());
+  }
+  state.counters["faces"] = t.faces_in;
+  state.counters["path_points"] = t.intersection_points;
+  state.counters["faces_split"] = t.faces_split;
+  state.SetLabel(state.range(0) == 0 ? "cga" : "euclidean");
+}
+
+void BM_TearCesiumMan(benchmark::State& state) { tear(state, &cesium()); }
+void BM_TearOgre(benchmark::State& state) { tear(state, ogre()); }
+void BM_TearMillion(benchmark::State& state) { tear(state, &million()); }
+
 void variants(benchmark::internal::Benchmark* b) {
   for (int cap : {0, 1})
     for (int predicates : {0, 1}) b->Args({predicates, cap});
@@ -120,6 +163,9 @@ void variants(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_CutCesiumMan)->Apply(variants)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CutOgre)->Apply(variants)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CutMillion)->Apply(variants)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TearCesiumMan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TearOgre)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TearMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DrillCesiumMan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DrillOgre)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DrillMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The demo: the shipped CesiumMan animated in CGA. Poses it at a few times with each skinning
-# mode (OBJ), converts it to glTF, and generates a new clip from keyframes. Results in out/.
+# mode (OBJ), converts it to glTF, generates a new clip from keyframes, and cuts, tears and
+# drills it. Results in out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cli="${1:-build/apps/cli/cgamesh}"
@@ -21,5 +22,17 @@ done
   --key "0:nodes[13]:rotate=1,0,0,0" \
   --key "1:nodes[13]:rotate=1,0,0,-70" \
   --key "2:nodes[13]:rotate=1,0,0,0"
+# Surgery on the model posed at t = 0.5 s; every result keeps skin, skeleton and clip.
+"$cli" cut "$model" --time 0.5 --plane 0,1,0,0.9 --cap -o out/cesium_upper.glb out/cesium_lower.glb
+"$cli" tear "$model" --time 0.5 --open 0.01 -o out/cesium_torn.glb \
+  --scalpel 0.01,0.90,2,0.01,0.90,0.06 \
+  --scalpel -0.005,0.93,2,-0.005,0.93,0.06 \
+  --scalpel -0.02,0.96,2,-0.02,0.96,0.06
+"$cli" drill "$model" --time 0.5 --base 0.01,0.9,0.6 --tip 0.01,0.9,-0.6 --radius 0.04 --wall \
+  -o out/cesium_drilled.glb
 echo "demo: wrote $(ls out | wc -l) files to out/"
 ls -1 out
+# Motor-handle deformation (paper sections III, IV): spline bend, harmonic handles, FABRIK chain.
+for spec in cesiumman_bend cesiumman_handles cesiumman_ik; do
+  "$cli" deform "$model" --spec data/specs/$spec.json -o out/$spec.obj
+done

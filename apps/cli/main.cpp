@@ -6,6 +6,7 @@
 
 #include "algebra_demo.hpp"
 #include "model_commands.hpp"
+#include "deform_command.hpp"
 #include "surgery_commands.hpp"
 #include "cgamesh/errors.hpp"
 #include "exit_codes.hpp"
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   cgamesh::cli::add_cut(app);
   cgamesh::cli::add_tear(app);
   cgamesh::cli::add_drill(app);
+  cgamesh::cli::add_deform(app);
   cgamesh::cli::add_algebra_demo(app);
   try {
     app.parse(argc, argv);

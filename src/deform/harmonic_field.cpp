@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 

@@ -7,6 +7,9 @@
 #include <string>
 #include <thread>
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
 #include "cgamesh/errors.hpp"
 
 namespace cgamesh::deform {

@@ -327,12 +327,7 @@ ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const c
   if (out.pieces[0].meshes.empty() || out.pieces[1].meshes.empty())
     throw TopologyError("cut: the plane misses the model (every face is on its " +
                         std::string(out.pieces[0].meshes.empty() ? "negative" : "positive") + " side)");
-  for (anim::RiggedModel& piece : out.pieces) {
-    piece.skeleton = model.skeleton;
-    piece.clips = model.clips;
-    piece.warnings = model.warnings;
-    piece.source_max_influences = model.source_max_influences;
-  }
+  for (anim::RiggedModel& piece : out.pieces) copy_rig(model, piece);
   return out;
 }
 

@@ -800,10 +800,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     out.origins.push_back(std::move(e.origins));
     out.placed.push_back(std::move(e.placed));
   }
-  out.model.skeleton = model.skeleton;
-  out.model.clips = model.clips;
-  out.model.warnings = model.warnings;
-  out.model.source_max_influences = model.source_max_influences;
+  copy_rig(model, out.model);
   return out;
 }
 

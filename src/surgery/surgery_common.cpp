@@ -67,6 +67,13 @@ Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& n) {
   return n.cross(axis).normalized();
 }
 
+void copy_rig(const anim::RiggedModel& model, anim::RiggedModel& out) {
+  out.skeleton = model.skeleton;
+  out.clips = model.clips;
+  out.warnings = model.warnings;
+  out.source_max_influences = model.source_max_influences;
+}
+
 void require_placement_fits(const anim::RiggedModel& model, const Placement& placement) {
   if (placement.positions.size() != model.meshes.size())
     throw InvalidInputError("surgery: the placement has " + std::to_string(placement.positions.size()) +
@@ -78,43 +85,95 @@ void require_placement_fits(const anim::RiggedModel& model, const Placement& pla
                               std::to_string(placement.positions[i].rows()) + " placed positions");
 }
 
+namespace {
+
+/// The rows `kept` of `old` (all of them, as one block copy, when `all`), then the rows of
+/// `fresh`.
+template <class Matrix>
+Matrix stack_rows(const Matrix& old, const std::vector<int>& kept, bool all, const Matrix& fresh) {
+  if (old.rows() == 0) return Matrix(0, old.cols());
+  Matrix out(static_cast<Eigen::Index>(kept.size()) + fresh.rows(), old.cols());
+  if (all) {
+    out.topRows(old.rows()) = old;
+  } else {
+    for (std::size_t i = 0; i < kept.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = old.row(kept[i]);
+  }
+  out.bottomRows(fresh.rows()) = fresh;
+  return out;
+}
+
+}  // namespace
+
 EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit) {
   const auto nv = static_cast<int>(old.vertex_count());
+  const auto nf = old.face_count();
   const int total = nv + static_cast<int>(edit.new_vertices.size());
-  std::vector<char> removed(static_cast<std::size_t>(old.face_count()), 0);
-  for (int f : edit.removed_faces) {
-    if (f < 0 || f >= old.face_count()) throw InvalidInputError("surgery: removed face " + std::to_string(f) + " out of range");
-    removed[static_cast<std::size_t>(f)] = 1;
-  }
-  const auto kept = static_cast<Eigen::Index>(std::count(removed.begin(), removed.end(), 0));
-  MeshFaces faces(kept + static_cast<Eigen::Index>(edit.new_faces.size()), 3);
-  Eigen::Index row = 0;
-  for (Eigen::Index f = 0; f < old.face_count(); ++f)
-    if (removed[static_cast<std::size_t>(f)] == 0) faces.row(row++) = old.faces.row(f);
-  for (const auto& t : edit.new_faces) {
+  std::vector<int> removed = edit.removed_faces;
+  std::sort(removed.begin(), removed.end());
+  for (std::size_t i = 0; i < removed.size(); ++i)
+    if (removed[i] < 0 || removed[i] >= nf || (i > 0 && removed[i] == removed[i - 1]))
+      throw InvalidInputError("surgery: removed face " + std::to_string(removed[i]) + " out of range or repeated");
+  for (const auto& t : edit.new_faces)
     for (int x : t)
       if (x < 0 || x >= total) throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
-    faces.row(row++) << t[0], t[1], t[2];
+  // Kept faces in runs between removed ones (block copies), then the new faces.
+  MeshFaces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces.size()), 3);
+  Eigen::Index row = 0, from = 0;
+  const auto copy_run = [&](Eigen::Index to) {
+    faces.middleRows(row, to - from) = old.faces.middleRows(from, to - from);
+    row += to - from;
+  };
+  for (const int f : removed) {
+    copy_run(f);
+    from = f + 1;
   }
-  // Compact: extended id -> output vertex, old vertices first in their order.
+  copy_run(nf);
+  for (const auto& t : edit.new_faces) faces.row(row++) << t[0], t[1], t[2];
+  // Used vertices; old ones keep their order, then the new ones.
   std::vector<int> remap(static_cast<std::size_t>(total), -1);
-  for (Eigen::Index i = 0; i < faces.size(); ++i) remap[static_cast<std::size_t>(faces.data()[i])] = 0;
+  const int* ids = faces.data();
+  for (Eigen::Index i = 0; i < faces.size(); ++i) remap[static_cast<std::size_t>(ids[i])] = 0;
+  std::vector<int> kept;
+  kept.reserve(static_cast<std::size_t>(nv));
+  for (int v = 0; v < nv; ++v)
+    if (remap[static_cast<std::size_t>(v)] == 0) {
+      remap[static_cast<std::size_t>(v)] = static_cast<int>(kept.size());
+      kept.push_back(v);
+    }
+  const bool all = static_cast<int>(kept.size()) == nv;
   EditedMesh out;
-  int next = 0;
-  for (std::size_t x = 0; x < remap.size(); ++x) {
-    if (remap[x] < 0) continue;
-    remap[x] = next++;
-    out.origins.push_back(static_cast<int>(x) < nv ? mesh::VertexSource::copy(static_cast<int>(x))
-                                                   : edit.new_vertices[x - static_cast<std::size_t>(nv)]);
+  out.origins.reserve(static_cast<std::size_t>(total));
+  for (const int v : kept) out.origins.push_back(mesh::VertexSource::copy(v));
+  std::vector<mesh::VertexSource> fresh_sources;
+  std::vector<int> fresh;  // used new vertices, as extended ids
+  for (int x = nv; x < total; ++x)
+    if (remap[static_cast<std::size_t>(x)] == 0) {
+      remap[static_cast<std::size_t>(x)] = static_cast<int>(kept.size() + fresh.size());
+      fresh.push_back(x);
+      fresh_sources.push_back(edit.new_vertices[static_cast<std::size_t>(x - nv)]);
+      out.origins.push_back(fresh_sources.back());
+    }
+  int* out_ids = faces.data();
+  for (Eigen::Index i = 0; i < faces.size(); ++i) out_ids[i] = remap[static_cast<std::size_t>(out_ids[i])];
+  // Old vertices are copied as they are; only the new ones are blended (resample).
+  mesh::Mesh blended = mesh::resample(old, fresh_sources, MeshFaces(0, 3));
+  mesh::Mesh& m = out.mesh;
+  m.name = old.name;
+  m.node = old.node;
+  m.faces = std::move(faces);
+  m.positions = stack_rows(old.positions, kept, all, blended.positions);
+  m.normals = stack_rows(old.normals, kept, all, blended.normals);
+  m.uvs = stack_rows(old.uvs, kept, all, blended.uvs);
+  if (!old.skin.empty()) {
+    m.skin = std::move(blended.skin);
+    m.skin.joints = stack_rows(old.skin.joints, kept, all, m.skin.joints);
+    m.skin.weights = stack_rows(old.skin.weights, kept, all, m.skin.weights);
   }
-  for (Eigen::Index i = 0; i < faces.size(); ++i) faces.data()[i] = remap[static_cast<std::size_t>(faces.data()[i])];
-  out.mesh = mesh::resample(old, out.origins, faces);
-  out.placed.resize(next, 3);
-  for (std::size_t x = 0; x < remap.size(); ++x) {
-    if (remap[x] < 0) continue;
-    if (static_cast<int>(x) < nv) out.placed.row(remap[x]) = placed.row(static_cast<Eigen::Index>(x));
-    else out.placed.row(remap[x]) = edit.new_placed[x - static_cast<std::size_t>(nv)].cast<float>().transpose();
-  }
+  mesh::RowMatrixXf<3> fresh_placed(static_cast<Eigen::Index>(fresh.size()), 3);
+  for (std::size_t i = 0; i < fresh.size(); ++i)
+    fresh_placed.row(static_cast<Eigen::Index>(i)) =
+        edit.new_placed[static_cast<std::size_t>(fresh[i] - nv)].cast<float>().transpose();
+  out.placed = stack_rows(placed, kept, all, fresh_placed);
   out.vertex_of = std::move(remap);
   return out;
 }

@@ -82,6 +82,10 @@ struct EditedMesh {
 /// @throws InvalidInputError for an id out of range.
 [[nodiscard]] EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit);
 
+/// Sets everything of `out` but its meshes (skeleton, clips, load warnings) from `model`: the
+/// parts surgery hands on unchanged.
+void copy_rig(const anim::RiggedModel& model, anim::RiggedModel& out);
+
 /// @throws InvalidInputError when `placement` does not hold one #V×3 block per mesh of `model`.
 void require_placement_fits(const anim::RiggedModel& model, const Placement& placement);
 

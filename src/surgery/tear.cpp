@@ -682,10 +682,12 @@ ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const
   EditedMesh edited = tearer.open(path, out.faces_split, out.side);
   for (const PathPoint& p : path) out.path.push_back(p.x);
   out.intersection_points = static_cast<int>(path.size());
-  out.model = model;
   for (const mesh::Mesh& m : model.meshes) out.faces_in += static_cast<int>(m.face_count());
   out.new_vertices = static_cast<int>(edited.mesh.vertex_count() - model.meshes[tm].vertex_count());
-  out.model.meshes[tm] = std::move(edited.mesh);
+  // Everything but the torn mesh is copied as it is.
+  copy_rig(model, out.model);
+  for (std::size_t m = 0; m < model.meshes.size(); ++m)
+    out.model.meshes.push_back(m == tm ? std::move(edited.mesh) : model.meshes[m]);
   out.origins = std::move(edited.origins);
   out.placed = std::move(edited.placed);
   for (const mesh::Mesh& m : out.model.meshes) out.faces_out += static_cast<int>(m.face_count());

@@ -1,0 +1,159 @@
+// Motor-handle deformation (paper sections III, IV, VIII): binding (harmonic parameter +
+// bound points) and one frame (per-vertex blended motor and sandwich) on the cow (~3k
+// vertices) and ogre (62k) from ../shared/data, and on CesiumMan subdivided past a million
+// vertices; single thread and all threads. The million-vertex frame takes its parameter from
+// the height instead of a harmonic solve (the frame cost does not depend on where lambda
+// comes from). Also the factorisation and the solve of the harmonic field on ogre.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cgamesh/deform/harmonic_field.hpp"
+#include "cgamesh/errors.hpp"
+#include "cgamesh/deform/spline_deform.hpp"
+#include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/mesh/subdivide.hpp"
+
+namespace {
+
+using namespace cgamesh;
+using cga::Versor;
+
+constexpr std::size_t kKeys = 4;
+
+/// The first mesh of a shared-data model, or nullptr when ../shared/data is absent.
+const mesh::Mesh* shared_mesh(const std::string& name) {
+  static std::map<std::string, mesh::Mesh> cache;
+  const std::filesystem::path path = std::string(CGAMESH_SHARED_DATA) + "/meshes/" + name;
+  if (!std::filesystem::exists(path)) return nullptr;
+  auto [it, inserted] = cache.try_emplace(name);
+  if (inserted) it->second = io::load_model(path).meshes.at(0);
+  return &it->second;
+}
+
+/// Vertices in the lowest / highest 10% of the height (y).
+std::vector<int> slab(const mesh::Mesh& m, bool top) {
+  const float lo = m.positions.col(1).minCoeff(), hi = m.positions.col(1).maxCoeff();
+  std::vector<int> out;
+  for (Eigen::Index i = 0; i < m.vertex_count(); ++i) {
+    const float y = m.positions(i, 1);
+    if (top ? y >= hi - 0.1f * (hi - lo) : y <= lo + 0.1f * (hi - lo)) out.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+
+std::vector<Versor<double>> rest_keys() {
+  return std::vector<Versor<double>>(kKeys, Versor<double>(cga::basis_blade<double, cga::blade::scalar>()));
+}
+
+/// A bend: each key turns a little more about z and shifts.
+std::vector<Versor<double>> posed_keys() {
+  std::vector<Versor<double>> keys;
+  for (std::size_t j = 0; j < kKeys; ++j)
+    keys.push_back(cga::similarity(Eigen::Vector3d(0.1 * j, 0, 0), cga::rotor(Eigen::Vector3d(0, 0, 1), 0.4 * j), 1.0));
+  return keys;
+}
+
+deform::MotorBlend bind(const mesh::Mesh& m, int threads) {
+  return deform::bind_spline(m, slab(m, false), slab(m, true), rest_keys(), {}, {threads});
+}
+
+/// CesiumMan subdivided past a million vertices, bound with lambda = normalised height.
+const deform::MotorBlend& million(int threads) {
+  static const mesh::Mesh big = [] {
+    mesh::Mesh m = io::load_model(std::string(CGAMESH_DATA_DIR) + "/CesiumMan.glb").meshes.at(0);
+    while (m.vertex_count() < 1'000'000) m = mesh::subdivide_midpoint(m);
+    return m;
+  }();
+  static std::map<int, deform::MotorBlend> bound;
+  auto it = bound.find(threads);
+  if (it == bound.end()) {
+    const int axis = 2;  // CesiumMan stands along z
+    const float lo = big.positions.col(axis).minCoeff(), hi = big.positions.col(axis).maxCoeff();
+    deform::WeightMatrix w(big.vertex_count(), static_cast<Eigen::Index>(kKeys));
+    for (Eigen::Index i = 0; i < big.vertex_count(); ++i)
+      deform::spline_weights({}, (big.positions(i, axis) - lo) / (hi - lo), std::span<double>(w.row(i).data(), kKeys));
+    it = bound.emplace(threads, deform::MotorBlend(big.positions, std::move(w), rest_keys(), {threads})).first;
+  }
+  return it->second;
+}
+
+/// False (the benchmark skipped with the reason) when the mesh cannot be bound, e.g. a
+/// connected part without a handle vertex.
+bool bindable(benchmark::State& state, const mesh::Mesh& m) {
+  try {
+    (void)bind(m, 1);
+    return true;
+  } catch (const cgamesh::Error& e) {
+    state.SkipWithError(e.what());
+    return false;
+  }
+}
+
+void frame(benchmark::State& state, const deform::MotorBlend& b) {
+  const auto keys = posed_keys();
+  mesh::RowMatrixXf<3> out;
+  for (auto _ : state) {
+    b.deform(keys, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * b.vertex_count());
+  state.counters["vertices"] = static_cast<double>(b.vertex_count());
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_DeformBind(benchmark::State& state, const std::string& name) {
+  const mesh::Mesh* m = shared_mesh(name);
+  if (m == nullptr) return state.SkipWithError("model not found (../shared/data is not present)");
+  if (!bindable(state, *m)) return;
+  for (auto _ : state) benchmark::DoNotOptimize(bind(*m, 0).bound_points().data());
+  state.counters["vertices"] = static_cast<double>(m->vertex_count());
+}
+
+void BM_DeformFrame(benchmark::State& state, const std::string& name) {
+  const int threads = static_cast<int>(state.range(0));
+  if (name == "million") return frame(state, million(threads));
+  const mesh::Mesh* m = shared_mesh(name);
+  if (m == nullptr) return state.SkipWithError("model not found (../shared/data is not present)");
+  if (bindable(state, *m)) frame(state, bind(*m, threads));
+}
+
+std::vector<int> ogre_constraints(const mesh::Mesh& m) {
+  std::vector<int> c = slab(m, false);
+  const std::vector<int> top = slab(m, true);
+  c.insert(c.end(), top.begin(), top.end());
+  return c;
+}
+
+void BM_DeformHarmonicFactorOgre(benchmark::State& state) {
+  const mesh::Mesh* m = shared_mesh("ogre.obj");
+  if (m == nullptr) return state.SkipWithError("model not found (../shared/data is not present)");
+  if (!bindable(state, *m)) return;
+  const std::vector<int> c = ogre_constraints(*m);
+  for (auto _ : state) benchmark::DoNotOptimize(deform::harmonic_precompute(*m, c).vertex_count());
+}
+
+void BM_DeformHarmonicSolveOgre(benchmark::State& state) {
+  const mesh::Mesh* m = shared_mesh("ogre.obj");
+  if (m == nullptr) return state.SkipWithError("model not found (../shared/data is not present)");
+  if (!bindable(state, *m)) return;
+  const std::vector<int> c = ogre_constraints(*m);
+  const auto pre = deform::harmonic_precompute(*m, c);
+  Eigen::MatrixXd boundary = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(c.size()), 1);
+  boundary.bottomRows(static_cast<Eigen::Index>(slab(*m, true).size())).setOnes();
+  for (auto _ : state) benchmark::DoNotOptimize(deform::harmonic_solve(pre, boundary).data());
+}
+
+// Arg: threads (0 = all).
+BENCHMARK_CAPTURE(BM_DeformBind, cow, std::string("cow.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformBind, ogre, std::string("ogre.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformFrame, cow, std::string("cow.obj"))->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformFrame, ogre, std::string("ogre.obj"))->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformFrame, million, std::string("million"))->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DeformHarmonicFactorOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DeformHarmonicSolveOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
