@@ -66,112 +66,154 @@ double milliseconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-// ---- cut ----
-struct CutCommand {
-  std::string model, plane;
-  std::vector<std::string> outputs;
+/// What every surgery command shares: the model, where the tool is placed, the predicates and
+/// how the result is reported.
+struct SurgeryCommand {
+  std::string model;
   PlacementOptions placement;
-  surgery::CutOptions options;
   bool euclidean = false;
   bool json = false;
+
+  /// The model loaded, placed and (for the local tools) indexed.
+  struct Scene {
+    anim::RiggedModel model;
+    surgery::Placement placement;
+    surgery::SurfaceIndex index;
+    double milliseconds = 0;  ///< placing and indexing, not loading
+  };
+
+  [[nodiscard]] Scene load(bool with_index) const {
+    Scene s;
+    s.model = io::load_model(model);
+    const auto start = std::chrono::steady_clock::now();
+    s.placement = surgery::place(s.model, placement.pose(s.model));
+    if (with_index) s.index = surgery::SurfaceIndex::build(s.model, s.placement);
+    s.milliseconds = milliseconds_since(start);
+    return s;
+  }
+
+  [[nodiscard]] surgery::Predicates predicates() const {
+    return euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
+  }
+
+  /// Runs `operation` and returns its result; `ms` gets its time alone.
+  template <class Operation>
+  [[nodiscard]] static auto timed(Operation&& operation, double& ms) {
+    const auto start = std::chrono::steady_clock::now();
+    auto result = operation();
+    ms = milliseconds_since(start);
+    return result;
+  }
+
+  /// Prints the --json summary (timings and predicates first, then `fields`), or `line` and
+  /// the warnings.
+  void report(const Json& outputs, double ms, const Scene& scene, const Json& fields, const std::string& line,
+              const std::vector<std::string>& warnings) const {
+    Json summary = {{outputs.is_array() ? "outputs" : "output", outputs},
+                    {"milliseconds", ms},
+                    {"placement_milliseconds", scene.milliseconds},
+                    {"predicates", euclidean ? "euclidean" : "cga"}};
+    for (const auto& [key, value] : fields.items()) summary[key] = value;
+    summary["warnings"] = warnings;
+    if (json) {
+      std::cout << summary.dump(2) << "\n";
+      return;
+    }
+    std::cout << line << "\n";
+    for (const auto& w : warnings) std::cout << "  warning: " << w << "\n";
+  }
+
+  void add_common(CLI::App& sub) {
+    sub.add_option("MODEL", model, "model file")->required();
+    sub.add_flag("--euclidean", euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
+    placement.add_to(sub);
+    sub.add_flag("--json", json, "print a machine-readable summary");
+  }
+};
+
+/// Per mesh of `model`, the placed positions, with mesh `k` replaced by `positions`.
+std::vector<mesh::RowMatrixXf<3>> placed_with(const surgery::Placement& placement, int k,
+                                              const mesh::RowMatrixXf<3>& positions) {
+  std::vector<mesh::RowMatrixXf<3>> out = placement.positions;
+  out[static_cast<std::size_t>(k)] = positions;
+  return out;
+}
+
+// ---- cut ----
+struct CutCommand : SurgeryCommand {
+  std::string plane;
+  std::vector<std::string> outputs;
+  surgery::CutOptions options;
 
   void run() {
     const auto p = parse_numbers(plane, 4, "--plane");
     const Eigen::Vector3d n(p[0], p[1], p[2]);
     if (!(n.norm() > 0)) throw InvalidInputError("--plane: the normal NX,NY,NZ is the zero vector");
     const cga::Vector<double> pi = cga::plane(n, p[3]);
-    const anim::RiggedModel m = io::load_model(model);
-    const auto start_place = std::chrono::steady_clock::now();
-    const surgery::Placement placed = surgery::place(m, placement.pose(m));
-    const double place_ms = milliseconds_since(start_place);
-    options.predicates = euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
-    const auto start = std::chrono::steady_clock::now();
-    const surgery::ModelCut c = surgery::cut(m, placed, pi, options);
-    const double ms = milliseconds_since(start);
+    const Scene scene = load(false);
+    options.predicates = predicates();
+    double ms = 0;
+    const surgery::ModelCut c = timed([&] { return surgery::cut(scene.model, scene.placement, pi, options); }, ms);
     std::vector<io::EncodedFile> files;
     for (std::size_t k = 0; k < 2; ++k)
       for (io::EncodedFile& f : encode_result(c.pieces[k], c.placed[k], outputs[k])) files.push_back(std::move(f));
     io::write_files_atomically(files);
-    const Json summary = {{"outputs", outputs},
-                          {"milliseconds", ms},
-                          {"placement_milliseconds", place_ms},
-                          {"predicates", euclidean ? "euclidean" : "cga"},
-                          {"new_vertices", c.new_vertices},
-                          {"intersection_points", c.intersection_points},
-                          {"faces_in", c.faces_in},
-                          {"faces_out", c.faces_out},
-                          {"faces_split", c.faces_split},
-                          {"cap_triangles", c.cap_triangles},
-                          {"warnings", c.warnings}};
-    if (json) {
-      std::cout << summary.dump(2) << "\n";
-      return;
-    }
-    std::cout << "cut " << model << " in " << ms << " ms: " << c.intersection_points << " intersection points, "
-              << c.faces_split << " faces split, " << c.faces_out[0] << " + " << c.faces_out[1] << " faces"
-              << (options.cap ? ", " + std::to_string(c.cap_triangles) + " cap triangles" : "") << "\n  -> "
-              << outputs[0] << ", " << outputs[1] << "\n";
-    for (const auto& w : c.warnings) std::cout << "  warning: " << w << "\n";
+    report(outputs, ms, scene,
+           {{"new_vertices", c.new_vertices},
+            {"intersection_points", c.intersection_points},
+            {"faces_in", c.faces_in},
+            {"faces_out", c.faces_out},
+            {"faces_split", c.faces_split},
+            {"cap_triangles", c.cap_triangles}},
+           "cut " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(c.intersection_points) +
+               " intersection points, " + std::to_string(c.faces_split) + " faces split, " +
+               std::to_string(c.faces_out[0]) + " + " + std::to_string(c.faces_out[1]) + " faces" +
+               (options.cap ? ", " + std::to_string(c.cap_triangles) + " cap triangles" : "") + "\n  -> " +
+               outputs[0] + ", " + outputs[1],
+           c.warnings);
   }
 };
 
 // ---- drill ----
-struct DrillCommand {
-  std::string model, tip, base, output;
+struct DrillCommand : SurgeryCommand {
+  std::string tip, base, output;
   double radius = 0;
-  PlacementOptions placement;
   surgery::DrillOptions options;
-  bool euclidean = false;
-  bool json = false;
 
   void run() {
     const auto a = parse_numbers(tip, 3, "--tip"), b = parse_numbers(base, 3, "--base");
     const Eigen::Vector3d tip_point(a[0], a[1], a[2]), base_point(b[0], b[1], b[2]);
-    const anim::RiggedModel m = io::load_model(model);
-    const auto start_place = std::chrono::steady_clock::now();
-    const surgery::Placement placed = surgery::place(m, placement.pose(m));
-    const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(m, placed);
-    const double place_ms = milliseconds_since(start_place);
-    options.predicates = euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
-    const auto start = std::chrono::steady_clock::now();
-    const surgery::ModelDrill d = surgery::drill(m, placed, index, tip_point, base_point, radius, options);
-    const double ms = milliseconds_since(start);
+    const Scene scene = load(true);
+    options.predicates = predicates();
+    double ms = 0;
+    const surgery::ModelDrill d = timed(
+        [&] { return surgery::drill(scene.model, scene.placement, scene.index, tip_point, base_point, radius, options); },
+        ms);
     if (d.model.meshes.empty()) throw TopologyError("drill: the drill removes the whole model; nothing to write");
     io::write_files_atomically(encode_result(d.model, d.placed, output));
-    const Json summary = {{"output", output},
-                          {"milliseconds", ms},
-                          {"placement_milliseconds", place_ms},
-                          {"predicates", euclidean ? "euclidean" : "cga"},
-                          {"new_vertices", d.new_vertices},
-                          {"intersection_points", d.intersection_points},
-                          {"faces_in", d.faces_in},
-                          {"faces_out", d.faces_out},
-                          {"faces_removed", d.faces_removed},
-                          {"faces_affected", d.faces_affected},
-                          {"refinements", d.refinements},
-                          {"rims", d.rims},
-                          {"wall_triangles", d.wall_triangles},
-                          {"warnings", d.warnings}};
-    if (json) {
-      std::cout << summary.dump(2) << "\n";
-      return;
-    }
-    std::cout << "drill " << model << " in " << ms << " ms: " << d.intersection_points << " intersection points, "
-              << d.rims << " rims, " << d.refinements << " refinements, " << d.faces_in << " -> " << d.faces_out
-              << " faces" << (options.wall ? ", " + std::to_string(d.wall_triangles) + " wall triangles" : "")
-              << "\n  -> " << output << "\n";
-    for (const auto& w : d.warnings) std::cout << "  warning: " << w << "\n";
+    report(output, ms, scene,
+           {{"new_vertices", d.new_vertices},
+            {"intersection_points", d.intersection_points},
+            {"faces_in", d.faces_in},
+            {"faces_out", d.faces_out},
+            {"faces_removed", d.faces_removed},
+            {"faces_affected", d.faces_affected},
+            {"refinements", d.refinements},
+            {"rims", d.rims},
+            {"wall_triangles", d.wall_triangles}},
+           "drill " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(d.intersection_points) +
+               " intersection points, " + std::to_string(d.rims) + " rims, " + std::to_string(d.refinements) +
+               " refinements, " + std::to_string(d.faces_in) + " -> " + std::to_string(d.faces_out) + " faces" +
+               (options.wall ? ", " + std::to_string(d.wall_triangles) + " wall triangles" : "") + "\n  -> " + output,
+           d.warnings);
   }
 };
 
 // ---- tear ----
-struct TearCommand {
-  std::string model, output;
+struct TearCommand : SurgeryCommand {
+  std::string output;
   std::vector<std::string> scalpels;
-  PlacementOptions placement;
   surgery::TearOptions options;
-  bool euclidean = false;
-  bool json = false;
 
   void run() {
     std::vector<surgery::Scalpel> steps;
@@ -181,40 +223,27 @@ struct TearCommand {
     }
     if (steps.size() < 2) throw InvalidInputError("--scalpel: give the blade at 2 or more time steps");
     if (!(options.open >= 0)) throw InvalidInputError("--open: the opening width must be >= 0");
-    const anim::RiggedModel m = io::load_model(model);
-    const auto start_place = std::chrono::steady_clock::now();
-    const surgery::Placement placed = surgery::place(m, placement.pose(m));
-    const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(m, placed);
-    const double place_ms = milliseconds_since(start_place);
-    options.predicates = euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
-    const auto start = std::chrono::steady_clock::now();
-    const surgery::ModelTear t = surgery::tear(m, placed, index, steps, options);
-    const double ms = milliseconds_since(start);
-    std::vector<mesh::RowMatrixXf<3>> positions = placed.positions;
-    positions[static_cast<std::size_t>(t.mesh)] = t.placed;
-    io::write_files_atomically(encode_result(t.model, positions, output));
+    const Scene scene = load(true);
+    options.predicates = predicates();
+    double ms = 0;
+    const surgery::ModelTear t =
+        timed([&] { return surgery::tear(scene.model, scene.placement, scene.index, steps, options); }, ms);
+    io::write_files_atomically(encode_result(t.model, placed_with(scene.placement, t.mesh, t.placed), output));
     Json path = Json::array();
     for (const Eigen::Vector3d& x : t.path) path.push_back({x.x(), x.y(), x.z()});
-    const Json summary = {{"output", output},
-                          {"milliseconds", ms},
-                          {"placement_milliseconds", place_ms},
-                          {"predicates", euclidean ? "euclidean" : "cga"},
-                          {"mesh", t.mesh},
-                          {"new_vertices", t.new_vertices},
-                          {"intersection_points", t.intersection_points},
-                          {"faces_in", t.faces_in},
-                          {"faces_out", t.faces_out},
-                          {"faces_split", t.faces_split},
-                          {"path", path},
-                          {"warnings", t.warnings}};
-    if (json) {
-      std::cout << summary.dump(2) << "\n";
-      return;
-    }
-    std::cout << "tear " << model << " in " << ms << " ms: " << t.intersection_points << " path points over "
-              << steps.size() - 1 << " steps, " << t.faces_split << " faces split, " << t.faces_in << " -> "
-              << t.faces_out << " faces\n  -> " << output << "\n";
-    for (const auto& w : t.warnings) std::cout << "  warning: " << w << "\n";
+    report(output, ms, scene,
+           {{"mesh", t.mesh},
+            {"new_vertices", t.new_vertices},
+            {"intersection_points", t.intersection_points},
+            {"faces_in", t.faces_in},
+            {"faces_out", t.faces_out},
+            {"faces_split", t.faces_split},
+            {"path", path}},
+           "tear " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(t.intersection_points) +
+               " path points over " + std::to_string(steps.size() - 1) + " steps, " + std::to_string(t.faces_split) +
+               " faces split, " + std::to_string(t.faces_in) + " -> " + std::to_string(t.faces_out) + " faces\n  -> " +
+               output,
+           t.warnings);
   }
 };
 
@@ -223,7 +252,7 @@ struct TearCommand {
 void add_cut(CLI::App& app) {
   auto c = std::make_shared<CutCommand>();
   CLI::App* sub = app.add_subcommand("cut", "Cut a model in two with a plane (both pieces keep skin and animations)");
-  sub->add_option("MODEL", c->model, "model file")->required();
+  c->add_common(*sub);
   sub->add_option("--plane", c->plane, "NX,NY,NZ,D: the plane n.x = d; piece A is the side n.x > d")->required();
   sub->add_option("-o,--output", c->outputs, "PIECE_A PIECE_B: .glb/.gltf (rigged) or .obj/.ply (as placed)")
       ->required()
@@ -231,9 +260,6 @@ void add_cut(CLI::App& app) {
   sub->add_flag("--cap", c->options.cap, "close each piece by triangulating the cross-section");
   sub->add_flag("--own-side-influences", c->options.own_side_influences,
                 "new vertices take influences from their own side only");
-  sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
-  c->placement.add_to(*sub);
-  sub->add_flag("--json", c->json, "print a machine-readable summary");
   sub->callback([c] { c->run(); });
 }
 
@@ -241,7 +267,7 @@ void add_drill(CLI::App& app) {
   auto c = std::make_shared<DrillCommand>();
   CLI::App* sub =
       app.add_subcommand("drill", "Drill a hole with a cylinder from BASE to TIP (the model keeps skin and animations)");
-  sub->add_option("MODEL", c->model, "model file")->required();
+  c->add_common(*sub);
   sub->add_option("--tip", c->tip, "X,Y,Z: the tip A of the drill axis (world space, as placed)")->required();
   sub->add_option("--base", c->base, "X,Y,Z: the base B of the drill axis")->required();
   sub->add_option("--radius", c->radius, "the drill's radius")->required();
@@ -251,9 +277,6 @@ void add_drill(CLI::App& app) {
       ->check(CLI::Range(3, 1 << 20));
   sub->add_option("--max-refinements", c->options.max_refinements, "at most this many rounds of 1->4 splits")
       ->check(CLI::Range(0, 20));
-  sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
-  c->placement.add_to(*sub);
-  sub->add_flag("--json", c->json, "print a machine-readable summary");
   sub->callback([c] { c->run(); });
 }
 
@@ -261,7 +284,7 @@ void add_tear(CLI::App& app) {
   auto c = std::make_shared<TearCommand>();
   CLI::App* sub = app.add_subcommand(
       "tear", "Tear the surface along the path a scalpel sweeps over time steps (the model keeps skin and animations)");
-  sub->add_option("MODEL", c->model, "model file")->required();
+  c->add_common(*sub);
   sub->add_option("--scalpel", c->scalpels,
                   "HX,HY,HZ,TX,TY,TZ: the blade (handle, tip; world space, as placed) at one time step; "
                   "repeat for t0, t1, ... (at least 2)")
@@ -270,9 +293,6 @@ void add_tear(CLI::App& app) {
   sub->add_option("--open", c->options.open, "opening width: the two sides move apart by up to this much (default 0)");
   sub->add_flag("--own-side-influences", c->options.own_side_influences,
                 "each side of the tear takes influences from its own side only");
-  sub->add_flag("--euclidean", c->euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
-  c->placement.add_to(*sub);
-  sub->add_flag("--json", c->json, "print a machine-readable summary");
   sub->callback([c] { c->run(); });
 }
 
