@@ -13,6 +13,7 @@
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "support/js_oracles.hpp"
+#include "surgery/surgery_fixtures.hpp"
 
 namespace {
 
@@ -102,16 +103,7 @@ Eigen::Vector3d torso_centre(double time) {
   const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(demo_model());
   const auto placed = cgamesh::surgery::place(
       m, cgamesh::anim::sample(m.skeleton, m.clips[0], time, cgamesh::anim::BlendMode::format)).positions[0];
-  // The middle of the vertices at 60% of the height.
-  const float lo = placed.col(1).minCoeff(), hi = placed.col(1).maxCoeff(), y = lo + 0.6f * (hi - lo);
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  int n = 0;
-  for (Eigen::Index v = 0; v < placed.rows(); ++v)
-    if (std::abs(placed(v, 1) - y) < 0.02f * (hi - lo)) {
-      sum += placed.row(v).cast<double>().transpose();
-      ++n;
-    }
-  return sum / n;
+  return cgamesh_test::torso_centre(placed);
 }
 
 /// A drill along z through CesiumMan's torso placed at `time` of its clip: tip, base.

@@ -105,4 +105,18 @@ inline double model_diagonal(const Subject& s) {
   return static_cast<double>((hi - lo).norm());
 }
 
+/// The middle of the placed vertices at 60% of the height (y): inside the torso of a standing
+/// figure such as CesiumMan.
+inline Eigen::Vector3d torso_centre(const Points& placed) {
+  const float lo = placed.col(1).minCoeff(), hi = placed.col(1).maxCoeff(), y = lo + 0.6f * (hi - lo);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (Eigen::Index v = 0; v < placed.rows(); ++v)
+    if (std::abs(placed(v, 1) - y) < 0.02f * (hi - lo)) {
+      sum += placed.row(v).cast<double>().transpose();
+      ++n;
+    }
+  return sum / n;
+}
+
 }  // namespace cgamesh_test

@@ -16,6 +16,7 @@
 #include "support/js_oracles.hpp"
 #include "support/temp_dir.hpp"
 #include "surgery/surgery_checks.hpp"
+#include "surgery/surgery_fixtures.hpp"
 
 namespace {
 
@@ -62,19 +63,7 @@ class SurgeryOracle : public ::testing::Test {
   const anim::RiggedModel model_ = io::load_model(cgamesh_test::demo_model());
   const surgery::Placement placement_ =
       surgery::place(model_, anim::sample(model_.skeleton, model_.clips[0], 0.7, anim::BlendMode::format));
-  /// A point in the middle of the torso, at 60% of the placed model's height.
-  [[nodiscard]] Eigen::Vector3d torso() const {
-    const auto& p = placement_.positions[0];
-    const float lo = p.col(1).minCoeff(), hi = p.col(1).maxCoeff(), y = lo + 0.6f * (hi - lo);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    int n = 0;
-    for (Eigen::Index v = 0; v < p.rows(); ++v)
-      if (std::abs(p(v, 1) - y) < 0.02f * (hi - lo)) {
-        sum += p.row(v).cast<double>().transpose();
-        ++n;
-      }
-    return sum / n;
-  }
+  [[nodiscard]] Eigen::Vector3d torso() const { return cgamesh_test::torso_centre(placement_.positions[0]); }
 };
 
 TEST_F(SurgeryOracle, PiecesOfAPosedCutAnimateInThreeJsAsInCgamesh) {
