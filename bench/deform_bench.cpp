@@ -6,6 +6,7 @@
 // comes from). Also the factorisation and the solve of the harmonic field on ogre.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -73,10 +74,16 @@ const deform::MotorBlend& million(int threads) {
   if (it == bound.end()) {
     const int axis = 2;  // CesiumMan stands along z
     const float lo = big.positions.col(axis).minCoeff(), hi = big.positions.col(axis).maxCoeff();
-    deform::WeightMatrix w(big.vertex_count(), static_cast<Eigen::Index>(kKeys));
+    // As bind_spline() does for large meshes: the parameter rounded to SplineOptions::levels.
+    const int top = deform::SplineOptions{}.levels - 1;
+    deform::WeightMatrix w(top + 1, static_cast<Eigen::Index>(kKeys));
+    for (int r = 0; r <= top; ++r)
+      deform::spline_weights({}, static_cast<double>(r) / top, std::span<double>(w.row(r).data(), kKeys));
+    std::vector<int> rows(static_cast<std::size_t>(big.vertex_count()));
     for (Eigen::Index i = 0; i < big.vertex_count(); ++i)
-      deform::spline_weights({}, (big.positions(i, axis) - lo) / (hi - lo), std::span<double>(w.row(i).data(), kKeys));
-    it = bound.emplace(threads, deform::MotorBlend(big.positions, std::move(w), rest_keys(), {threads})).first;
+      rows[static_cast<std::size_t>(i)] = static_cast<int>(std::lround((big.positions(i, axis) - lo) / (hi - lo) * top));
+    it = bound.emplace(threads, deform::MotorBlend(big.positions, std::move(w), std::move(rows), rest_keys(), {threads}))
+             .first;
   }
   return it->second;
 }

@@ -73,22 +73,64 @@ cga::SimilarityGenerator<double> blended_generator(const double* w, std::span<co
 
 }  // namespace
 
+namespace {
+
+/// Runs job(begin, end) over [0, n) split into `threads` parts (0: all hardware threads); few
+/// thousand items per thread at least, below that starting threads costs more than it saves.
+template <class Job>
+void parallel_for(Eigen::Index n, int threads, Job&& job) {
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int t = static_cast<int>(std::min<Eigen::Index>(threads > 0 ? threads : hw, std::max<Eigen::Index>(1, n / 4096)));
+  std::vector<std::thread> pool;
+  for (int k = 1; k < t; ++k) pool.emplace_back([&, k] { job(n * k / t, n * (k + 1) / t); });
+  job(0, n / t);
+  for (auto& th : pool) th.join();
+}
+
+}  // namespace
+
 MotorBlend::MotorBlend(const mesh::RowMatrixXf<3>& rest, WeightMatrix weights,
                        std::span<const cga::Versor<double>> rest_keys, const MotorBlendOptions& options)
     : weights_(std::move(weights)), bound_(rest.rows(), 3), threads_(options.threads) {
+  if (weights_.rows() != rest.rows())
+    throw InvalidInputError("motor blend: the weights have " + std::to_string(weights_.rows()) + " rows, expected #V = " +
+                            std::to_string(rest.rows()));
+  bind(rest, rest_keys);
+}
+
+MotorBlend::MotorBlend(const mesh::RowMatrixXf<3>& rest, WeightMatrix weights, std::vector<int> rows,
+                       std::span<const cga::Versor<double>> rest_keys, const MotorBlendOptions& options)
+    : weights_(std::move(weights)), rows_(std::move(rows)), bound_(rest.rows(), 3), threads_(options.threads) {
+  if (static_cast<Eigen::Index>(rows_.size()) != rest.rows())
+    throw InvalidInputError("motor blend: " + std::to_string(rows_.size()) + " weight rows given for " +
+                            std::to_string(rest.rows()) + " vertices");
+  for (const int r : rows_)
+    if (r < 0 || r >= weights_.rows())
+      throw InvalidInputError("motor blend: weight row " + std::to_string(r) + " out of range");
+  bind(rest, rest_keys);
+}
+
+void MotorBlend::bind(const mesh::RowMatrixXf<3>& rest, std::span<const cga::Versor<double>> rest_keys) {
   if (rest_keys.empty()) throw InvalidInputError("motor blend: no key motors");
-  if (weights_.rows() != rest.rows() || weights_.cols() != static_cast<Eigen::Index>(rest_keys.size()))
-    throw InvalidInputError("motor blend: the weights are " + std::to_string(weights_.rows()) + " x " +
-                            std::to_string(weights_.cols()) + ", expected #V x #keys = " + std::to_string(rest.rows()) +
-                            " x " + std::to_string(rest_keys.size()));
+  if (weights_.cols() != static_cast<Eigen::Index>(rest_keys.size()))
+    throw InvalidInputError("motor blend: the weights have " + std::to_string(weights_.cols()) + " columns, expected " +
+                            std::to_string(rest_keys.size()) + " (one per key)");
   if (!weights_.allFinite()) throw InvalidInputError("motor blend: a weight is NaN or infinite");
   const auto logs = logs_of(rest_keys);
-  for (Eigen::Index i = 0; i < rest.rows(); ++i) {
-    const Eigen::Matrix<double, 3, 4> m = similarity_exp_affine(blended_generator(weights_.row(i).data(), logs));
-    // p' = ~M p M is the inverse map: A^-1 (p - b), with A = s R.
+  // p' = ~M p M is the inverse map: A^-1 (p - b), with A = s R.
+  const auto inverse = [&](const Eigen::Matrix<double, 3, 4>& m, Eigen::Index i) {
     const Eigen::Vector3d p = rest.row(i).transpose().cast<double>() - m.col(3);
     bound_.row(i) = (m.leftCols<3>().inverse() * p).transpose().cast<float>();
+  };
+  if (rows_.empty()) {
+    for (Eigen::Index i = 0; i < rest.rows(); ++i)
+      inverse(similarity_exp_affine(blended_generator(weights_.row(i).data(), logs)), i);
+    return;
   }
+  std::vector<Eigen::Matrix<double, 3, 4>> maps(static_cast<std::size_t>(weights_.rows()));
+  for (Eigen::Index r = 0; r < weights_.rows(); ++r)
+    maps[static_cast<std::size_t>(r)] = similarity_exp_affine(blended_generator(weights_.row(r).data(), logs));
+  for (Eigen::Index i = 0; i < rest.rows(); ++i) inverse(maps[static_cast<std::size_t>(row(i))], i);
 }
 
 std::vector<cga::SimilarityGenerator<double>> MotorBlend::key_logs(std::span<const cga::Versor<double>> keys) const {
@@ -101,23 +143,35 @@ std::vector<cga::SimilarityGenerator<double>> MotorBlend::key_logs(std::span<con
 void MotorBlend::deform_range(std::span<const cga::SimilarityGenerator<double>> logs, Eigen::Index begin,
                               Eigen::Index end, mesh::RowMatrixXf<3>& out) const noexcept {
   for (Eigen::Index i = begin; i < end; ++i) {
-    const Eigen::Matrix<double, 3, 4> m = similarity_exp_affine(blended_generator(weights_.row(i).data(), logs));
+    const Eigen::Matrix<double, 3, 4> m = similarity_exp_affine(blended_generator(weights_.row(row(i)).data(), logs));
     out.row(i) = (m.leftCols<3>() * bound_.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
   }
+}
+
+std::vector<Eigen::Matrix<float, 3, 4>> MotorBlend::row_maps(std::span<const cga::SimilarityGenerator<double>> logs) const {
+  std::vector<Eigen::Matrix<float, 3, 4>> maps(static_cast<std::size_t>(weights_.rows()));
+  parallel_for(weights_.rows(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index r = begin; r < end; ++r)
+      maps[static_cast<std::size_t>(r)] = similarity_exp_affine(blended_generator(weights_.row(r).data(), logs)).cast<float>();
+  });
+  return maps;
 }
 
 void MotorBlend::deform(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const {
   const auto logs = key_logs(keys);
   const Eigen::Index n = vertex_count();
   out.resize(n, 3);
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  // Below a few thousand vertices per thread, starting threads costs more than it saves.
-  const int t = static_cast<int>(std::min<Eigen::Index>(threads_ > 0 ? threads_ : hw, std::max<Eigen::Index>(1, n / 4096)));
-  std::vector<std::thread> pool;
-  for (int k = 1; k < t; ++k)
-    pool.emplace_back([&, k] { deform_range(logs, n * k / t, n * (k + 1) / t, out); });
-  deform_range(logs, 0, n / t, out);
-  for (auto& th : pool) th.join();
+  if (rows_.empty()) {
+    parallel_for(n, threads_, [&](Eigen::Index begin, Eigen::Index end) { deform_range(logs, begin, end, out); });
+    return;
+  }
+  const auto maps = row_maps(logs);
+  parallel_for(n, threads_, [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index i = begin; i < end; ++i) {
+      const Eigen::Matrix<float, 3, 4>& m = maps[static_cast<std::size_t>(rows_[static_cast<std::size_t>(i)])];
+      out.row(i) = (m.leftCols<3>() * bound_.row(i).transpose() + m.col(3)).transpose();
+    }
+  });
 }
 
 }  // namespace cgamesh::deform

@@ -86,11 +86,23 @@ Eigen::VectorXd spline_parameter(const mesh::Mesh& mesh, std::span<const int> st
 MotorBlend bind_spline(const mesh::Mesh& mesh, std::span<const int> start, std::span<const int> end,
                        std::span<const cga::Versor<double>> rest_keys, const SplineOptions& options,
                        const MotorBlendOptions& blend_options) {
+  if (options.levels < 0 || options.levels == 1) throw InvalidInputError("spline: levels must be 0 or >= 2");
   const Eigen::VectorXd lambda = spline_parameter(mesh, start, end, options.harmonic);
-  WeightMatrix weights(lambda.size(), static_cast<Eigen::Index>(rest_keys.size()));
+  const auto n = static_cast<Eigen::Index>(rest_keys.size());
+  if (options.levels == 0 || lambda.size() <= options.levels) {
+    WeightMatrix weights(lambda.size(), n);
+    for (Eigen::Index i = 0; i < lambda.size(); ++i)
+      spline_weights(options, lambda[i], std::span<double>(weights.row(i).data(), rest_keys.size()));
+    return MotorBlend(mesh.positions, std::move(weights), rest_keys, blend_options);
+  }
+  const int top = options.levels - 1;
+  WeightMatrix weights(options.levels, n);
+  for (int r = 0; r <= top; ++r)
+    spline_weights(options, static_cast<double>(r) / top, std::span<double>(weights.row(r).data(), rest_keys.size()));
+  std::vector<int> rows(static_cast<std::size_t>(lambda.size()));
   for (Eigen::Index i = 0; i < lambda.size(); ++i)
-    spline_weights(options, lambda[i], std::span<double>(weights.row(i).data(), rest_keys.size()));
-  return MotorBlend(mesh.positions, std::move(weights), rest_keys, blend_options);
+    rows[static_cast<std::size_t>(i)] = static_cast<int>(std::lround(std::clamp(lambda[i], 0.0, 1.0) * top));
+  return MotorBlend(mesh.positions, std::move(weights), std::move(rows), rest_keys, blend_options);
 }
 
 }  // namespace cgamesh::deform

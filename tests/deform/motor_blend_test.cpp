@@ -143,6 +143,32 @@ TEST(DeformSpline, EqualKeysMoveTheWholeMeshRigidly) {
   }
 }
 
+TEST(DeformSpline, QuantisedParameterDeformsAsTheExactOne) {
+  const mesh::Mesh m = asset_mesh("spot.obj");  // 17k vertices as loaded: above 16384 levels
+  const std::vector<int> start = slab(m, 1, 0.1, false), end = slab(m, 1, 0.1, true);
+  const std::vector<Versor<double>> rest(4, identity());
+  const std::vector<Versor<double>> keys{identity(), rigid(Vec3(0, 0.1, 0), Vec3(0, 0, 1), 0.6),
+                                         rigid(Vec3(0.2, 0, 0), Vec3(1, 0, 0), -0.9),
+                                         cga::similarity(Vec3(0, 0, 0.3), cga::rotor(Vec3(0, 1, 0), 1.2), 1.5)};
+  deform::SplineOptions exact;
+  exact.levels = 0;
+  ASSERT_GT(m.vertex_count(), deform::SplineOptions{}.levels);
+  mesh::RowMatrixXf<3> a, b;
+  deform::bind_spline(m, start, end, rest).deform(keys, a);
+  deform::bind_spline(m, start, end, rest, exact).deform(keys, b);
+  const double worst = (a - b).rowwise().norm().maxCoeff();
+  EXPECT_LE(worst, 1e-3 * diagonal(m)) << "rounding lambda to 1/16383 moves a vertex this far";
+  EXPECT_GT(worst, 0.0) << "the quantised path was not taken";
+  for (const int v : start) EXPECT_LE((a.row(v) - b.row(v)).norm(), 1e-6 * diagonal(m)) << "lambda = 0 is a level";
+  for (const int v : end) EXPECT_LE((a.row(v) - b.row(v)).norm(), 1e-6 * diagonal(m)) << "lambda = 1 is a level";
+  deform::SplineOptions bad;
+  bad.levels = 1;
+  EXPECT_THROW((void)deform::bind_spline(m, start, end, rest, bad), InvalidInputError);
+  EXPECT_THROW(deform::MotorBlend(m.positions, deform::WeightMatrix::Ones(2, 1), std::vector<int>(m.vertex_count(), 2),
+                                  std::vector<Versor<double>>(1, identity())),
+               InvalidInputError);
+}
+
 TEST(DeformSpline, EndHandlesFollowTheirKeysRigidly) {
   const mesh::Mesh m = asset_mesh("spot.obj");
   const std::vector<int> start = slab(m, 1, 0.1, false), end = slab(m, 1, 0.1, true);
@@ -191,7 +217,7 @@ TEST(DeformSpline, DilatingKeysScaleByTheBlendedFactor) {
   mesh::RowMatrixXf<3> out;
   bound.deform(keys, out);
   for (Eigen::Index i = 0; i < m.vertex_count(); ++i) {
-    const double lambda = bound.weights()(i, 1);
+    const double lambda = bound.weight(i, 1);
     EXPECT_NEAR(lambda, m.positions(i, 2), 1e-6);
     const Eigen::Vector3d expected = std::pow(4.0, lambda) * m.positions.row(i).transpose().cast<double>();
     EXPECT_LT((out.row(i).transpose().cast<double>() - expected).norm(), 1e-5) << i;

@@ -52,15 +52,24 @@ class MotorBlend {
   MotorBlend(const mesh::RowMatrixXf<3>& rest, WeightMatrix weights, std::span<const cga::Versor<double>> rest_keys,
              const MotorBlendOptions& options = {});
 
+  /// The same with shared weight rows: vertex i blends with `weights.row(rows[i])`. For weights
+  /// that take few distinct values (a quantised spline parameter), a frame then computes one
+  /// motor per row and costs one table lookup and one 3×4 map per vertex.
+  /// @param[in] weights  #R x n weight rows
+  /// @param[in] rows     #V row of each vertex
+  /// @throws as above, and InvalidInputError for a row out of range.
+  MotorBlend(const mesh::RowMatrixXf<3>& rest, WeightMatrix weights, std::vector<int> rows,
+             std::span<const cga::Versor<double>> rest_keys, const MotorBlendOptions& options = {});
+
   [[nodiscard]] Eigen::Index vertex_count() const noexcept { return bound_.rows(); }
   [[nodiscard]] Eigen::Index key_count() const noexcept { return weights_.cols(); }
-  /// #V x n the blend weights.
-  [[nodiscard]] const WeightMatrix& weights() const noexcept { return weights_; }
+  /// The weight of key j at vertex i.
+  [[nodiscard]] double weight(Eigen::Index i, Eigen::Index j) const noexcept { return weights_(row(i), j); }
   /// #V x 3 the bound points p'_i.
   [[nodiscard]] const mesh::RowMatrixXf<3>& bound_points() const noexcept { return bound_; }
 
   /// One frame: p_i = M_i p'_i ~M_i with M_i the blend of `keys` (eq. 2), over
-  /// options.threads threads.
+  /// options.threads threads (with shared rows: first the motor of each row, then the vertices).
   /// @param[in]  keys  #n posed key versors
   /// @param[out] out   #V x 3 deformed positions (resized)
   /// @throws InvalidInputError when keys has the wrong size or a key is not a similarity.
@@ -74,7 +83,16 @@ class MotorBlend {
                     mesh::RowMatrixXf<3>& out) const noexcept;
 
  private:
+  [[nodiscard]] Eigen::Index row(Eigen::Index i) const noexcept {
+    return rows_.empty() ? i : rows_[static_cast<std::size_t>(i)];
+  }
+  /// Per weight row, the 3×4 map of its blended motor under `logs`, over the threads.
+  [[nodiscard]] std::vector<Eigen::Matrix<float, 3, 4>> row_maps(
+      std::span<const cga::SimilarityGenerator<double>> logs) const;
+  void bind(const mesh::RowMatrixXf<3>& rest, std::span<const cga::Versor<double>> rest_keys);
+
   WeightMatrix weights_;
+  std::vector<int> rows_;  ///< #V weight row of each vertex; empty: row i for vertex i
   mesh::RowMatrixXf<3> bound_;
   int threads_;
 };

@@ -26,6 +26,10 @@ struct SplineOptions {
   SplineBasis basis = SplineBasis::bspline;
   int degree = 3;  ///< B-spline degree (>= 1); other bases ignore it
   HarmonicOptions harmonic;
+  /// A mesh with more vertices than this has its parameter λ rounded to `levels` evenly spaced
+  /// values (0 and 1 exactly among them), so a frame computes `levels` motors and then costs a
+  /// table lookup per vertex; 16384 levels move λ by at most 3·10⁻⁵. 0: a motor per vertex.
+  int levels = 16384;
 };
 
 /// Basis weights W_j(lambda) of n keys. Every basis interpolates the end keys (S(0) = R_1,
