@@ -59,14 +59,22 @@ const Subject& million() {
   return s;
 }
 
+/// False, with the benchmark skipped, when the model is missing (../shared/data not present).
+bool present(benchmark::State& state, const Subject* s) {
+  if (s == nullptr) state.SkipWithError("model not found (../shared/data is not present)");
+  return s != nullptr;
+}
+
+/// Predicates of a benchmark's first argument: 0 cga, 1 euclidean.
+surgery::Predicates predicates_of(const benchmark::State& state) {
+  return state.range(0) == 0 ? surgery::Predicates::cga : surgery::Predicates::euclidean;
+}
+
 /// Cuts through the centre of the placed mesh with a slanted plane.
 void cut(benchmark::State& state, const Subject* s) {
-  if (s == nullptr) {
-    state.SkipWithError("model not found (../shared/data is not present)");
-    return;
-  }
+  if (!present(state, s)) return;
   surgery::CutOptions options;
-  options.predicates = state.range(0) == 0 ? surgery::Predicates::cga : surgery::Predicates::euclidean;
+  options.predicates = predicates_of(state);
   options.cap = state.range(1) != 0;
   const Eigen::Vector3d n = Eigen::Vector3d(0.2, 1, 0.1).normalized();
   const cga::Vector<double> plane = cga::plane(n, n.dot(s->centre));
@@ -88,13 +96,10 @@ void BM_CutMillion(benchmark::State& state) { cut(state, &million()); }
 /// the mesh's size; the SurfaceIndex is built once, outside the timed loop (as an interactive
 /// tool would keep it per pose).
 void drill(benchmark::State& state, const Subject* s) {
-  if (s == nullptr) {
-    state.SkipWithError("model not found (../shared/data is not present)");
-    return;
-  }
+  if (!present(state, s)) return;
   const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(s->model, s->placement);
   surgery::DrillOptions options;
-  options.predicates = state.range(0) == 0 ? surgery::Predicates::cga : surgery::Predicates::euclidean;
+  options.predicates = predicates_of(state);
   const double size = index.meshes[0].bvh.diagonal();
   const Eigen::Vector3d axis = Eigen::Vector3d(1, 0.2, 0.1).normalized();
   const Eigen::Vector3d tip = s->centre + size * axis, base = s->centre - size * axis;
@@ -117,13 +122,10 @@ void BM_DrillMillion(benchmark::State& state) { drill(state, &million()); }
 /// points from in front of the body at its centre and moves sideways and up by 6% of the mesh's
 /// size in all; the SurfaceIndex is built once, outside the timed loop.
 void tear(benchmark::State& state, const Subject* s) {
-  if (s == nullptr) {
-    state.SkipWithError("model not found (../shared/data is not present)");
-    return;
-  }
+  if (!present(state, s)) return;
   const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(s->model, s->placement);
   surgery::TearOptions options;
-  options.predicates = state.range(0) == 0 ? surgery::Predicates::cga : surgery::Predicates::euclidean;
+  options.predicates = predicates_of(state);
   options.open = 0.002 * index.meshes[0].bvh.diagonal();
   const double size = index.meshes[0].bvh.diagonal();
   const Eigen::Vector3d front = Eigen::Vector3d(0.1, 0.1, 1).normalized(), move(-0.5, 1, 0);

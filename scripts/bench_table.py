@@ -17,7 +17,7 @@ def main(path):
 
     print("| algebra benchmark | time (ns) |\n|---|---|")
     for name, b in rows.items():
-        if not name.startswith("BM_Skin") and not name.startswith("BM_Batch"):
+        if not name.startswith(("BM_Skin", "BM_Batch", "BM_Cut", "BM_Tear", "BM_Drill", "BM_Deform")):
             print(f"| {name} | {b['real_time']:.1f} |")
 
     base = rows["BM_BatchMatrix3x4"]["items_per_second"]
@@ -34,6 +34,44 @@ def main(path):
             for mode, label in MODES.items():
                 ips = rows[f"BM_Skin{model}/mode:{mode}/threads:{threads}/real_time"]["items_per_second"]
                 print(f"| {label} | {'1' if threads == '1' else 'all'} | {ips / 1e6:.1f} M | {ips / ref:.2f} |")
+
+
+    surgery(rows)
+    deform(rows)
+
+
+# The seed's Python on a ~3k-vertex arm (paper section 4.3), milliseconds.
+SEED_MS = {"Cut": 4666.0, "Tear": 2437.0, "Drill": 274.0}
+
+
+def ms(b):
+    scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
+    return b["real_time"] * scale
+
+
+def surgery(rows):
+    print("\n| operation | model | faces | cga | euclidean | cga ÷ euclidean | seed ÷ cga |\n|---|---|---|---|---|---|---|")
+    for op in ("Cut", "Tear", "Drill"):
+        for model in ("CesiumMan", "Ogre", "Million"):
+            ga = rows.get(f"BM_{op}{model}/0/0" if op == "Cut" else f"BM_{op}{model}/0")
+            eu = rows.get(f"BM_{op}{model}/1/0" if op == "Cut" else f"BM_{op}{model}/1")
+            if not ga or not eu or ga.get("error_occurred"):
+                continue
+            seed = f"{SEED_MS[op] / ms(ga):,.0f}×" if model == "CesiumMan" else ""
+            print(f"| {op.lower()} | {model} | {int(ga.get('faces', 0))} | {ms(ga):.3f} ms | {ms(eu):.3f} ms | "
+                  f"{ms(ga) / ms(eu):.2f} | {seed} |")
+    for model in ("CesiumMan", "Ogre", "Million"):
+        cap = rows.get(f"BM_Cut{model}/0/1")
+        if cap and not cap.get("error_occurred"):
+            print(f"| cut + cap | {model} | {int(cap.get('faces', 0))} | {ms(cap):.3f} ms | | | |")
+
+
+def deform(rows):
+    print("\n| deformation | vertices | time | frames/s |\n|---|---|---|---|")
+    for name, b in rows.items():
+        if name.startswith("BM_Deform") and not b.get("error_occurred"):
+            fps = f"{b['fps']:.0f}" if "fps" in b else ""
+            print(f"| {name} | {int(b.get('vertices', 0)) or ''} | {ms(b):.2f} ms | {fps} |")
 
 
 if __name__ == "__main__":
