@@ -1,15 +1,14 @@
 #include "cgamesh/anim/skinning.hpp"
 
 #include <algorithm>
-#include <exception>
 #include <string>
-#include <thread>
 
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/interpolation.hpp"
 #include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/errors.hpp"
+#include "../parallel_for.hpp"
 
 namespace cgamesh::anim {
 namespace {
@@ -149,27 +148,9 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
 }
 
 RowMatrixXf<3> skin(const Mesh& mesh, const SkinningPalette& palette, int threads) {
-  const Eigen::Index n = mesh.vertex_count();
-  RowMatrixXf<3> out(n, 3);
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int t = static_cast<int>(std::min<Eigen::Index>(threads > 0 ? threads : hw, std::max<Eigen::Index>(1, n / 4096)));
-  if (t <= 1) {
-    skin_range(mesh, palette, 0, n, out);
-    return out;
-  }
-  std::vector<std::thread> pool;
-  std::vector<std::exception_ptr> errors(t);
-  for (int k = 0; k < t; ++k)
-    pool.emplace_back([&, k] {
-      try {
-        skin_range(mesh, palette, n * k / t, n * (k + 1) / t, out);
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-    });
-  for (auto& th : pool) th.join();
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  RowMatrixXf<3> out(mesh.vertex_count(), 3);
+  detail::parallel_for(mesh.vertex_count(), threads,
+                       [&](Eigen::Index begin, Eigen::Index end) { skin_range(mesh, palette, begin, end, out); });
   return out;
 }
 

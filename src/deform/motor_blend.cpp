@@ -5,12 +5,12 @@
 #include <complex>
 #include <exception>
 #include <string>
-#include <thread>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include "cgamesh/errors.hpp"
+#include "../parallel_for.hpp"
 
 namespace cgamesh::deform {
 
@@ -69,22 +69,6 @@ cga::SimilarityGenerator<double> blended_generator(const double* w, std::span<co
   cga::SimilarityGenerator<double> sum;
   for (std::size_t j = 0; j < logs.size(); ++j) sum += logs[j] * w[j];
   return sum;
-}
-
-}  // namespace
-
-namespace {
-
-/// Runs job(begin, end) over [0, n) split into `threads` parts (0: all hardware threads); few
-/// thousand items per thread at least, below that starting threads costs more than it saves.
-template <class Job>
-void parallel_for(Eigen::Index n, int threads, Job&& job) {
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int t = static_cast<int>(std::min<Eigen::Index>(threads > 0 ? threads : hw, std::max<Eigen::Index>(1, n / 4096)));
-  std::vector<std::thread> pool;
-  for (int k = 1; k < t; ++k) pool.emplace_back([&, k] { job(n * k / t, n * (k + 1) / t); });
-  job(0, n / t);
-  for (auto& th : pool) th.join();
 }
 
 }  // namespace
@@ -150,7 +134,7 @@ void MotorBlend::deform_range(std::span<const cga::SimilarityGenerator<double>> 
 
 std::vector<Eigen::Matrix<float, 3, 4>> MotorBlend::row_maps(std::span<const cga::SimilarityGenerator<double>> logs) const {
   std::vector<Eigen::Matrix<float, 3, 4>> maps(static_cast<std::size_t>(weights_.rows()));
-  parallel_for(weights_.rows(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
+  detail::parallel_for(weights_.rows(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
     for (Eigen::Index r = begin; r < end; ++r)
       maps[static_cast<std::size_t>(r)] = similarity_exp_affine(blended_generator(weights_.row(r).data(), logs)).cast<float>();
   });
@@ -162,11 +146,11 @@ void MotorBlend::deform(std::span<const cga::Versor<double>> keys, mesh::RowMatr
   const Eigen::Index n = vertex_count();
   out.resize(n, 3);
   if (rows_.empty()) {
-    parallel_for(n, threads_, [&](Eigen::Index begin, Eigen::Index end) { deform_range(logs, begin, end, out); });
+    detail::parallel_for(n, threads_, [&](Eigen::Index begin, Eigen::Index end) { deform_range(logs, begin, end, out); });
     return;
   }
   const auto maps = row_maps(logs);
-  parallel_for(n, threads_, [&](Eigen::Index begin, Eigen::Index end) {
+  detail::parallel_for(n, threads_, [&](Eigen::Index begin, Eigen::Index end) {
     for (Eigen::Index i = begin; i < end; ++i) {
       const Eigen::Matrix<float, 3, 4>& m = maps[static_cast<std::size_t>(rows_[static_cast<std::size_t>(i)])];
       out.row(i) = (m.leftCols<3>() * bound_.row(i).transpose() + m.col(3)).transpose();

@@ -746,12 +746,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
   if (options.min_rim_points < 3) throw InvalidInputError("drill: min_rim_points must be at least 3");
   if (options.max_refinements < 0) throw InvalidInputError("drill: max_refinements must be >= 0");
   if (!(options.snap >= 0) || !std::isfinite(options.snap)) throw InvalidInputError("drill: snap must be >= 0");
-  if (index.meshes.size() != model.meshes.size())
-    throw InvalidInputError("drill: the surface index does not fit the model");
-  for (std::size_t i = 0; i < model.meshes.size(); ++i)
-    if (static_cast<Eigen::Index>(index.meshes[i].weld.size()) != model.meshes[i].vertex_count() ||
-        static_cast<Eigen::Index>(index.meshes[i].neighbor.size()) != model.meshes[i].face_count())
-      throw InvalidInputError("drill: the surface index does not fit mesh '" + model.meshes[i].name + "'");
+  require_index_fits(model, index, "drill");
 
   Cylinder c;
   c.base = base;

@@ -74,6 +74,16 @@ void copy_rig(const anim::RiggedModel& model, anim::RiggedModel& out) {
   out.source_max_influences = model.source_max_influences;
 }
 
+void require_index_fits(const anim::RiggedModel& model, const SurfaceIndex& index, const std::string& operation) {
+  if (index.meshes.size() != model.meshes.size())
+    throw InvalidInputError(operation + ": the surface index has " + std::to_string(index.meshes.size()) +
+                            " meshes, the model " + std::to_string(model.meshes.size()));
+  for (std::size_t i = 0; i < model.meshes.size(); ++i)
+    if (static_cast<Eigen::Index>(index.meshes[i].weld.size()) != model.meshes[i].vertex_count() ||
+        static_cast<Eigen::Index>(index.meshes[i].neighbor.size()) != model.meshes[i].face_count())
+      throw InvalidInputError(operation + ": the surface index does not fit mesh '" + model.meshes[i].name + "'");
+}
+
 void require_placement_fits(const anim::RiggedModel& model, const Placement& placement) {
   if (placement.positions.size() != model.meshes.size())
     throw InvalidInputError("surgery: the placement has " + std::to_string(placement.positions.size()) +

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "cgamesh/mesh/mesh.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
 #include "cgamesh/surgery/placement.hpp"
+#include "cgamesh/surgery/surface_index.hpp"
 
 namespace cgamesh::surgery {
 
@@ -88,5 +90,8 @@ void copy_rig(const anim::RiggedModel& model, anim::RiggedModel& out);
 
 /// @throws InvalidInputError when `placement` does not hold one #V×3 block per mesh of `model`.
 void require_placement_fits(const anim::RiggedModel& model, const Placement& placement);
+
+/// @throws InvalidInputError (naming `operation`) when `index` was not built for `model`.
+void require_index_fits(const anim::RiggedModel& model, const SurfaceIndex& index, const std::string& operation);
 
 }  // namespace cgamesh::surgery

@@ -637,9 +637,7 @@ class Tearer {
 ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
                std::span<const Scalpel> scalpel, const TearOptions& options) {
   require_placement_fits(model, placement);
-  if (index.meshes.size() != model.meshes.size())
-    throw InvalidInputError("tear: the surface index has " + std::to_string(index.meshes.size()) + " meshes, the model " +
-                            std::to_string(model.meshes.size()));
+  require_index_fits(model, index, "tear");
   if (scalpel.size() < 2)
     throw InvalidInputError("tear: the scalpel needs at least 2 time steps, got " + std::to_string(scalpel.size()));
   if (!(options.open >= 0) || !std::isfinite(options.open))
@@ -656,19 +654,19 @@ ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const
     return hits.empty() ? mesh::SegmentHit{} : hits.front();
   };
   int torn = -1;
-  double best = INFINITY;
+  mesh::SegmentHit start;
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {
     const mesh::SegmentHit h = first_hit(m, scalpel[0]);
-    if (h.face >= 0 && h.t < best) {
-      best = h.t;
+    if (h.face >= 0 && (torn < 0 || h.t < start.t)) {
+      start = h;
       torn = static_cast<int>(m);
     }
   }
   if (torn < 0) throw TopologyError("tear: the scalpel at step 0 does not meet the surface");
   const auto tm = static_cast<std::size_t>(torn);
   Tearer tearer(model.meshes[tm], placement.positions[tm], placement.palettes[tm], index.meshes[tm], options);
-  std::vector<PathPoint> entries;
-  for (std::size_t i = 0; i < scalpel.size(); ++i) {
+  std::vector<PathPoint> entries{tearer.entry(start)};
+  for (std::size_t i = 1; i < scalpel.size(); ++i) {
     const mesh::SegmentHit h = first_hit(tm, scalpel[i]);
     if (h.face < 0)
       throw TopologyError("tear: the scalpel at step " + std::to_string(i) + " does not meet the surface of mesh '" +
