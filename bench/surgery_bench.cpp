@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "cgamesh/mesh/subdivide.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
+#include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/tear.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
@@ -155,6 +157,109 @@ void BM_TearCesiumMan(benchmark::State& state) { tear(state, &cesium()); }
 void BM_TearOgre(benchmark::State& state) { tear(state, ogre()); }
 void BM_TearMillion(benchmark::State& state) { tear(state, &million()); }
 
+// ---- in place (LiveModel) ------------------------------------------------------------------
+// The same operations editing one LiveModel where it is: each iteration operates at another
+// place of the model (a grid over the front of the body, or parallel planes), so every timed
+// operation is a real one on a real, progressively operated model. The places are tried once on
+// a scratch copy, untimed, and only those that hit the model are timed.
+
+/// One operation at place i (0 ≤ i < places) on a LiveModel; throws when it misses there.
+using LiveOperation = std::function<void(surgery::LiveModel&, int)>;
+
+void live(benchmark::State& state, const Subject* s, int places, const LiveOperation& operate) {
+  if (!present(state, s)) return;
+  std::vector<int> hits;
+  {
+    surgery::LiveModel scratch(s->model, s->placement);
+    for (int i = 0; i < places; ++i) {
+      try {
+        operate(scratch, i);
+        hits.push_back(i);
+      } catch (const Error&) {
+        // this place misses the (already operated) model
+      }
+    }
+  }
+  if (hits.empty()) {
+    state.SkipWithError("no place hits the model");
+    return;
+  }
+  surgery::LiveModel model(s->model, s->placement);
+  std::size_t next = 0;
+  for (auto _ : state) {
+    if (next == hits.size()) {
+      state.PauseTiming();
+      model = surgery::LiveModel(s->model, s->placement);
+      next = 0;
+      state.ResumeTiming();
+    }
+    operate(model, hits[next++]);
+  }
+  state.counters["places"] = static_cast<double>(hits.size());
+  state.SetLabel(state.range(0) == 0 ? "cga in place" : "euclidean in place");
+}
+
+/// A point of a 6×6 grid over ±25 % of the model's size across its front, centred on `centre`.
+Eigen::Vector3d grid_point(const Subject& s, double size, int i) {
+  return s.centre + 0.1 * size * Eigen::Vector3d((i % 6) - 2.5, (i / 6) - 2.5, 0);
+}
+
+/// Length of the diagonal of the box around the placed mesh.
+double size_of(const Subject& s) {
+  const auto& p = s.placement.positions[0];
+  return static_cast<double>((p.colwise().maxCoeff() - p.colwise().minCoeff()).norm());
+}
+
+void cut_in_place(benchmark::State& state, const Subject* s) {
+  if (!present(state, s)) return;
+  surgery::CutOptions options;
+  options.predicates = predicates_of(state);
+  const Eigen::Vector3d n = Eigen::Vector3d(0.2, 1, 0.1).normalized();
+  const double size = size_of(*s);
+  live(state, s, 24, [&](surgery::LiveModel& m, int i) {
+    benchmark::DoNotOptimize(surgery::cut(m, cga::plane(n, n.dot(s->centre) + 0.015 * size * (i - 12)), options));
+  });
+}
+
+void tear_in_place(benchmark::State& state, const Subject* s) {
+  if (!present(state, s)) return;
+  surgery::TearOptions options;
+  options.predicates = predicates_of(state);
+  const double size = size_of(*s);
+  options.open = 0.002 * size;
+  const Eigen::Vector3d front = Eigen::Vector3d(0.1, 0.1, 1).normalized(), move = Eigen::Vector3d(-0.5, 1, 0).normalized();
+  live(state, s, 36, [&](surgery::LiveModel& m, int i) {
+    std::vector<surgery::Scalpel> steps;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d c = grid_point(*s, size, i) + 0.02 * size * k * move;
+      steps.push_back({c + size * front, c});
+    }
+    benchmark::DoNotOptimize(surgery::tear(m, steps, options));
+  });
+}
+
+void drill_in_place(benchmark::State& state, const Subject* s) {
+  if (!present(state, s)) return;
+  surgery::DrillOptions options;
+  options.predicates = predicates_of(state);
+  const double size = size_of(*s);
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.1, 0.2, 1).normalized();
+  live(state, s, 36, [&](surgery::LiveModel& m, int i) {
+    const Eigen::Vector3d at = grid_point(*s, size, i);
+    benchmark::DoNotOptimize(surgery::drill(m, at + size * axis, at - size * axis, 0.02 * size, options));
+  });
+}
+
+void BM_CutInPlaceCesiumMan(benchmark::State& state) { cut_in_place(state, &cesium()); }
+void BM_CutInPlaceOgre(benchmark::State& state) { cut_in_place(state, ogre()); }
+void BM_CutInPlaceMillion(benchmark::State& state) { cut_in_place(state, &million()); }
+void BM_TearInPlaceCesiumMan(benchmark::State& state) { tear_in_place(state, &cesium()); }
+void BM_TearInPlaceOgre(benchmark::State& state) { tear_in_place(state, ogre()); }
+void BM_TearInPlaceMillion(benchmark::State& state) { tear_in_place(state, &million()); }
+void BM_DrillInPlaceCesiumMan(benchmark::State& state) { drill_in_place(state, &cesium()); }
+void BM_DrillInPlaceOgre(benchmark::State& state) { drill_in_place(state, ogre()); }
+void BM_DrillInPlaceMillion(benchmark::State& state) { drill_in_place(state, &million()); }
+
 void variants(benchmark::internal::Benchmark* b) {
   for (int cap : {0, 1})
     for (int predicates : {0, 1}) b->Args({predicates, cap});
@@ -171,3 +276,12 @@ BENCHMARK(BM_TearMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DrillCesiumMan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DrillOgre)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DrillMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CutInPlaceCesiumMan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CutInPlaceOgre)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CutInPlaceMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TearInPlaceCesiumMan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TearInPlaceOgre)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TearInPlaceMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DrillInPlaceCesiumMan)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DrillInPlaceOgre)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DrillInPlaceMillion)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

@@ -24,6 +24,8 @@ TriangleBvh::TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces) {
   corners_.resize(static_cast<std::size_t>(3 * nf));
   std::vector<Eigen::Vector3f> centroids(static_cast<std::size_t>(nf));
   order_.resize(static_cast<std::size_t>(nf));
+  leaf_of_.resize(static_cast<std::size_t>(nf));
+  slot_of_.resize(static_cast<std::size_t>(nf));
   for (Eigen::Index f = 0; f < nf; ++f) {
     const auto fi = static_cast<std::size_t>(f);
     for (int k = 0; k < 3; ++k) corners_[3 * fi + static_cast<std::size_t>(k)] = positions.row(faces(f, k)).transpose();
@@ -31,12 +33,14 @@ TriangleBvh::TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces) {
     order_[fi] = static_cast<int>(f);
   }
   nodes_.reserve(static_cast<std::size_t>(2 * nf / kLeafSize + 1));
-  if (nf > 0) build(0, static_cast<int>(nf), centroids);
+  parent_.reserve(nodes_.capacity());
+  if (nf > 0) build(0, static_cast<int>(nf), -1, centroids);
 }
 
-int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3f>& centroids) {
+int TriangleBvh::build(int begin, int end, int parent, std::vector<Eigen::Vector3f>& centroids) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
+  parent_.push_back(parent);
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
   Eigen::Vector3f clo = lo, chi = hi;
   for (int i = begin; i < end; ++i) {
@@ -53,6 +57,11 @@ int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3f>& centroi
   if (end - begin <= kLeafSize) {
     nodes_[static_cast<std::size_t>(index)].first = begin;
     nodes_[static_cast<std::size_t>(index)].count = end - begin;
+    for (int i = begin; i < end; ++i) {
+      const auto f = static_cast<std::size_t>(order_[static_cast<std::size_t>(i)]);
+      leaf_of_[f] = index;
+      slot_of_[f] = i;
+    }
     return index;
   }
   int axis = 0;
@@ -61,8 +70,8 @@ int TriangleBvh::build(int begin, int end, std::vector<Eigen::Vector3f>& centroi
   std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, [&](int a, int b) {
     return centroids[static_cast<std::size_t>(a)][axis] < centroids[static_cast<std::size_t>(b)][axis];
   });
-  build(begin, mid, centroids);
-  const int right = build(mid, end, centroids);
+  build(begin, mid, index, centroids);
+  const int right = build(mid, end, index, centroids);
   nodes_[static_cast<std::size_t>(index)].first = right;
   return index;
 }
@@ -77,7 +86,11 @@ void TriangleBvh::traverse(Overlaps&& overlaps, Visit&& visit) const {
     const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
     if (!overlaps(node.lo, node.hi)) continue;
     if (node.count > 0) {
-      for (int i = node.first; i < node.first + node.count; ++i) visit(order_[static_cast<std::size_t>(i)]);
+      for (int i = node.first; i < node.first + node.count; ++i)
+        if (const int f = order_[static_cast<std::size_t>(i)]; f >= 0) visit(f);
+      if (!appended_.empty())
+        if (const auto it = appended_.find(static_cast<int>(&node - nodes_.data())); it != appended_.end())
+          for (const int f : it->second) visit(f);
     } else {
       stack[top++] = node.first;
       stack[top++] = static_cast<int>(&node - nodes_.data()) + 1;
@@ -138,6 +151,74 @@ std::vector<SegmentHit> TriangleBvh::segment_hits(const Eigen::Vector3d& a, cons
       });
   std::sort(hits.begin(), hits.end(), [](const SegmentHit& x, const SegmentHit& y) { return x.t < y.t; });
   return hits;
+}
+
+void TriangleBvh::set_corners(int f, const std::array<Eigen::Vector3f, 3>& corners) {
+  if (!corners[0].allFinite() || !corners[1].allFinite() || !corners[2].allFinite())
+    throw InvalidInputError("TriangleBvh: a placed corner is NaN or infinite");
+  for (std::size_t k = 0; k < 3; ++k) corners_[3 * static_cast<std::size_t>(f) + k] = corners[k];
+}
+
+void TriangleBvh::grow(int leaf, const std::array<Eigen::Vector3f, 3>& corners) {
+  for (int n = leaf; n >= 0; n = parent_[static_cast<std::size_t>(n)]) {
+    Node& node = nodes_[static_cast<std::size_t>(n)];
+    const auto inside = [&](const Eigen::Vector3f& p) {
+      return (p.array() >= node.lo.array()).all() && (p.array() <= node.hi.array()).all();
+    };
+    if (std::all_of(corners.begin(), corners.end(), inside)) return;  // so are its ancestors'
+    for (const auto& p : corners) {
+      node.lo = node.lo.cwiseMin(p);
+      node.hi = node.hi.cwiseMax(p);
+    }
+  }
+}
+
+void TriangleBvh::replace(int f, const std::array<Eigen::Vector3f, 3>& corners) {
+  if (f < 0 || f >= face_count()) throw InvalidInputError("TriangleBvh: no face " + std::to_string(f) + " to replace");
+  set_corners(f, corners);
+  grow(leaf_of_[static_cast<std::size_t>(f)], corners);
+}
+
+void TriangleBvh::append(const std::array<Eigen::Vector3f, 3>& corners, int near) {
+  if (near < 0 || near >= face_count()) throw InvalidInputError("TriangleBvh: no face " + std::to_string(near) + " to append next to");
+  const int f = face_count(), leaf = leaf_of_[static_cast<std::size_t>(near)];
+  corners_.resize(corners_.size() + 3);
+  set_corners(f, corners);
+  std::vector<int>& list = appended_[leaf];
+  leaf_of_.push_back(leaf);
+  slot_of_.push_back(-1 - static_cast<int>(list.size()));
+  list.push_back(f);
+  grow(leaf, corners);
+}
+
+void TriangleBvh::erase(int f) {
+  if (f < 0 || f >= face_count()) throw InvalidInputError("TriangleBvh: no face " + std::to_string(f) + " to erase");
+  const auto fi = static_cast<std::size_t>(f);
+  const int leaf = leaf_of_[fi];
+  // Take f out of its leaf (whose box stays: larger than needed, never too small).
+  if (const int slot = slot_of_[fi]; slot >= 0) {
+    order_[static_cast<std::size_t>(slot)] = -1;
+  } else {
+    std::vector<int>& list = appended_[leaf];
+    const auto i = static_cast<std::size_t>(-1 - slot);
+    list[i] = list.back();
+    slot_of_[static_cast<std::size_t>(list[i])] = slot;
+    list.pop_back();
+  }
+  // The last face takes id f.
+  const int last = face_count() - 1;
+  if (f != last) {
+    const auto li = static_cast<std::size_t>(last);
+    const int slot = slot_of_[li];
+    if (slot >= 0) order_[static_cast<std::size_t>(slot)] = f;
+    else appended_[leaf_of_[li]][static_cast<std::size_t>(-1 - slot)] = f;
+    leaf_of_[fi] = leaf_of_[li];
+    slot_of_[fi] = slot;
+    for (std::size_t k = 0; k < 3; ++k) corners_[3 * fi + k] = corners_[3 * li + k];
+  }
+  corners_.resize(corners_.size() - 3);
+  leaf_of_.pop_back();
+  slot_of_.pop_back();
 }
 
 }  // namespace cgamesh::mesh

@@ -29,21 +29,29 @@ struct EdgePoint {
 
 class Cutter {
  public:
+  /// A cut of the whole mesh: every vertex is classified up front.
   Cutter(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
          const CutOptions& options)
-      : mesh_(mesh), placed_(placed), options_(options), nv_(static_cast<int>(mesh.vertex_count())) {
-    const auto [n, d] = cga::plane_parameters(plane);
-    normal_ = n;
-    offset_ = d;
-    plane_ = cga::plane(n, d);
+      : Cutter(mesh, placed, plane, options, 0) {
     if (placed.rows() != mesh.vertex_count())
       throw InvalidInputError("cut: mesh '" + mesh.name + "' has " + std::to_string(nv_) + " vertices but " +
                               std::to_string(placed.rows()) + " placed positions");
     if (!placed.allFinite()) throw InvalidInputError("cut: the placed positions of mesh '" + mesh.name + "' hold NaN");
+    classify();
+  }
+
+  /// A local cut (in place): vertices are classified as the faces near the plane ask, with the
+  /// snapping tolerance `tolerance` (absolute).
+  Cutter(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
+         const CutOptions& options, double tolerance)
+      : mesh_(mesh), placed_(placed), options_(options), nv_(static_cast<int>(mesh.vertex_count())), tolerance_(tolerance) {
+    const auto [n, d] = cga::plane_parameters(plane);
+    normal_ = n;
+    offset_ = d;
+    plane_ = cga::plane(n, d);
   }
 
   MeshCut run() {
-    classify();
     for (Eigen::Index f = 0; f < mesh_.face_count(); ++f) split_face(f);
     MeshCut out;
     out.intersection_points = static_cast<int>(points_.size());
@@ -52,19 +60,68 @@ class Cutter {
     return out;
   }
 
+  /// Separates the faces among `near` that the plane crosses or touches (in place): they are
+  /// removed and re-triangulated; each vertex on the plane gets a copy for piece B where both
+  /// pieces use it. `piece` gets the piece of each new face.
+  void separate(const std::vector<int>& near, LocalEdit& edit, std::vector<signed char>& piece, CutStats& stats) {
+    for (const int f : near) {
+      const std::array<int, 3> s{side(mesh_.faces(f, 0)), side(mesh_.faces(f, 1)), side(mesh_.faces(f, 2))};
+      const bool zero = s[0] == 0 || s[1] == 0 || s[2] == 0;
+      const bool crossed = std::count(s.begin(), s.end(), 1) > 0 && std::count(s.begin(), s.end(), -1) > 0;
+      if (!zero && !crossed) continue;
+      edit.removed_faces.push_back(f);
+      split_face(f);
+    }
+    // Old vertices on the plane that piece A keeps: piece B gets copies of them.
+    std::unordered_map<int, int> shared;
+    for (const Triangle& t : faces_[0])
+      for (const int x : t)
+        if (x < nv_) shared.emplace(x, -1);
+    std::unordered_map<std::uint64_t, int> id_of;
+    const auto id = [&](int x, int p) {
+      if (x < nv_) {
+        if (p == 0 || side(x) != 0) return x;
+        const auto it = shared.find(x);
+        if (it == shared.end()) return x;
+        if (it->second < 0) it->second = edit.add_vertex(VertexSource::copy(x), point(x), nv_, -1);
+        return it->second;
+      }
+      const auto [it, added] = id_of.try_emplace(directed_key(x, p), -1);
+      if (added) it->second = edit.add_vertex(source(x, p), point(x), nv_, p == 0 ? 1 : -1);
+      return it->second;
+    };
+    for (int p = 0; p < 2; ++p)
+      for (const Triangle& t : faces_[static_cast<std::size_t>(p)]) {
+        edit.new_faces.push_back({id(t[0], p), id(t[1], p), id(t[2], p)});
+        piece.push_back(static_cast<signed char>(p));
+      }
+    stats.intersection_points += static_cast<int>(points_.size());
+    stats.faces_split += faces_split_;
+  }
+
  private:
   /// Signed distances X·Π (or n·x − d) and sides, snapped to 0 within the tolerance.
   void classify() {
     distance_ = signed_distances(placed_, normal_, offset_, plane_, options_.predicates);
-    const double tolerance = options_.snap * bounding_diagonal(placed_);
+    tolerance_ = options_.snap * bounding_diagonal(placed_);
     side_.resize(distance_.size());
     for (std::size_t i = 0; i < distance_.size(); ++i) {
-      side_[i] = distance_[i] > tolerance ? 1 : distance_[i] < -tolerance ? -1 : 0;
+      side_[i] = distance_[i] > tolerance_ ? 1 : distance_[i] < -tolerance_ ? -1 : 0;
       if (side_[i] == 0) distance_[i] = 0;
     }
   }
 
-  [[nodiscard]] int side(int v) const { return side_[static_cast<std::size_t>(v)]; }
+  /// Snapped signed distance and side of vertex v, evaluated where it is asked (a local cut): a
+  /// few multiply-adds, cheaper than remembering them.
+  [[nodiscard]] std::pair<double, int> classified(int v) const {
+    const double x = signed_distance(placed_.row(v).cast<double>().transpose(), normal_, offset_, plane_, options_.predicates);
+    const int s = x > tolerance_ ? 1 : x < -tolerance_ ? -1 : 0;
+    return {s == 0 ? 0.0 : x, s};
+  }
+  [[nodiscard]] double distance(int v) const {
+    return side_.empty() ? classified(v).first : distance_[static_cast<std::size_t>(v)];
+  }
+  [[nodiscard]] int side(int v) const { return side_.empty() ? classified(v).second : side_[static_cast<std::size_t>(v)]; }
   [[nodiscard]] static int piece_of(int side) { return side > 0 ? 0 : 1; }
 
   /// The crossing of edge (a, b), whose ends are strictly on opposite sides, shared by both faces
@@ -73,7 +130,7 @@ class Cutter {
     if (a > b) std::swap(a, b);
     const auto [it, added] = point_of_edge_.try_emplace(edge_key(a, b), nv_ + static_cast<int>(points_.size()));
     if (added) {
-      const double da = distance_[static_cast<std::size_t>(a)], db = distance_[static_cast<std::size_t>(b)];
+      const double da = distance(a), db = distance(b);
       points_.push_back({a, b, static_cast<float>(da / (da - db))});
     }
     return it->second;
@@ -285,6 +342,7 @@ class Cutter {
   Eigen::Vector3d normal_;
   double offset_ = 0;
   cga::Vector<double> plane_;
+  double tolerance_ = 0;
   std::vector<double> distance_;
   std::vector<int> side_;
   std::vector<EdgePoint> points_;
@@ -328,6 +386,39 @@ ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const c
     throw TopologyError("cut: the plane misses the model (every face is on its " +
                         std::string(out.pieces[0].meshes.empty() ? "negative" : "positive") + " side)");
   for (anim::RiggedModel& piece : out.pieces) copy_rig(model, piece);
+  return out;
+}
+
+LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions& options) {
+  if (options.cap) throw InvalidInputError("cut: `cap` is not available in place; cut() returns two closed pieces");
+  const auto [n, d] = cga::plane_parameters(plane);
+  const anim::RiggedModel& model = live.model();
+  LiveCut out;
+  // Every edit is made before any is applied, so that a throw leaves `live` as it was.
+  std::vector<LocalEdit> edits(model.meshes.size());
+  std::vector<std::vector<signed char>> pieces(model.meshes.size());
+  std::array<bool, 2> reached{false, false};
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    out.faces_in += static_cast<int>(model.meshes[i].face_count());
+    const MeshIndex& index = live.index().meshes[i];
+    const double tolerance = options.snap * index.bvh.diagonal();
+    std::vector<int> near;
+    index.bvh.faces_near_plane(n, d, tolerance, near);
+    Cutter(model.meshes[i], live.placement().positions[i], plane, options, tolerance).separate(near, edits[i], pieces[i], out);
+    for (const signed char p : pieces[i]) reached[static_cast<std::size_t>(p)] = true;
+  }
+  if (!reached[0] && !reached[1]) throw TopologyError("cut: the plane crosses no face of the model (nothing to separate)");
+  if (!reached[0] || !reached[1])
+    throw TopologyError(std::string("cut: the plane only touches the model (no face on its ") +
+                        (reached[0] ? "negative" : "positive") + " side there)");
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    if (edits[i].removed_faces.empty()) continue;
+    AppliedEdit applied = apply_edit_in_place(live, i, edits[i]);
+    out.new_vertices += static_cast<int>(applied.change.origins.size());
+    out.changes.push_back(std::move(applied.change));
+    out.piece_of_new_face.push_back(std::move(pieces[i]));
+  }
+  for (const mesh::Mesh& m : model.meshes) out.faces_out += static_cast<int>(m.face_count());
   return out;
 }
 

@@ -1,15 +1,15 @@
 #include "cgamesh/surgery/drill.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 #include <span>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
-#include <unordered_set>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -26,6 +26,68 @@ namespace {
 using mesh::RowMatrixXf;
 using mesh::VertexSource;
 using Triangle = std::array<int, 3>;
+
+/// An open-addressing (linear probing) hash map from 64-bit keys to small values. The region
+/// holds a few hundred vertices, faces and edges: node-based maps spent most of a drill
+/// allocating nodes and hashing by division. Pointers to values last until the next insertion.
+template <class Value>
+class FlatMap {
+ public:
+  /// Room for n entries without rehashing.
+  void reserve(std::size_t n) {
+    if (2 * n > keys_.size()) rehash(std::bit_ceil(2 * n));
+  }
+
+  /// The value of `key`, inserted as `value` when absent, and whether it was inserted.
+  std::pair<Value*, bool> try_emplace(std::uint64_t key, const Value& value) {
+    if (2 * (size_ + 1) > keys_.size()) rehash(std::max<std::size_t>(64, 2 * keys_.size()));
+    const std::size_t i = probe(key);
+    if (keys_[i] == key) return {&values_[i], false};
+    keys_[i] = key;
+    values_[i] = value;
+    ++size_;
+    return {&values_[i], true};
+  }
+
+  [[nodiscard]] Value* find(std::uint64_t key) {
+    if (keys_.empty()) return nullptr;
+    const std::size_t i = probe(key);
+    return keys_[i] == key ? &values_[i] : nullptr;
+  }
+
+ private:
+  static constexpr std::uint64_t empty_key = ~std::uint64_t{0};  ///< no edge key nor id is all ones
+
+  /// Fibonacci hashing: the high bits of key · 2⁶⁴/φ.
+  [[nodiscard]] std::size_t home(std::uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
+  }
+
+  /// The slot holding `key`, or the empty slot that ends its probe sequence.
+  [[nodiscard]] std::size_t probe(std::uint64_t key) const {
+    std::size_t i = home(key);
+    while (keys_[i] != empty_key && keys_[i] != key) i = (i + 1) & (keys_.size() - 1);
+    return i;
+  }
+
+  /// Moves the entries to `capacity` (a power of two) slots. Keys and values lie apart, so
+  /// that clearing the slots is a fill of the keys only.
+  void rehash(std::size_t capacity) {
+    std::vector<std::uint64_t> old_keys = std::move(keys_);
+    std::vector<Value> old_values = std::move(values_);
+    keys_.assign(capacity, empty_key);
+    values_.resize(capacity);
+    shift_ = 64 - std::countr_zero(capacity);
+    size_ = 0;
+    for (std::size_t i = 0; i < old_keys.size(); ++i)
+      if (old_keys[i] != empty_key) try_emplace(old_keys[i], old_values[i]);
+  }
+
+  std::vector<std::uint64_t> keys_;
+  std::vector<Value> values_;
+  std::size_t size_ = 0;
+  int shift_ = 64;
+};
 
 /// The drill: the axis from B along the unit vector n, the radius, and its CGA objects in the
 /// drill's own frame (origin at B, so that the conformal points of a small region far from the
@@ -46,6 +108,7 @@ struct Vertex {
   VertexSource source;  ///< where it comes from in the input mesh
   Eigen::Vector3d placed;
   int weld = -1;              ///< seam copies share it
+  bool crossing = false;      ///< an intersection point of an edge with the cylinder
   double s = 0;               ///< ρ² − r² (ρ: distance of its projection onto Π from B); 0 on the cylinder
   double h = 0;               ///< X·Π: height above Π
   cga::Vector<double> point;  ///< X = up(x − B) (cga predicates)
@@ -66,7 +129,8 @@ struct Face {
   int origin;     ///< the input face it lies in
   bool original;  ///< still the input face itself
   bool alive = true;
-  int visited = -1;  ///< pass of the last search that reached it
+  int visited = -1;                    ///< pass of the last search that reached it
+  std::array<int, 3> cut{-1, -1, -1};  ///< per edge k (v[k], v[k + 1]), its cut in cuts_ once known
 };
 
 /// A chord replacing an arc of the circle: the closing edge p -> e of a kept polygon.
@@ -108,31 +172,43 @@ class Driller {
         next_weld_(nv_) {
     tolerance_ = options.snap * index.bvh.diagonal();
     s_tolerance_ = tolerance_ * (2 * c_.radius + tolerance_);
+    // Room for a typical region (it grows past it as needed): a mesh has about half as many
+    // vertices and 3/2 as many edges as faces, the region's border and the new points more.
+    constexpr std::size_t faces = 128;
+    faces_.reserve(faces);
+    vertices_.reserve(2 * faces);
+    local_of_old_.reserve(faces);
+    slot_of_old_.reserve(faces);
+    half_edges_.reserve(3 * faces);
+    cuts_.reserve(2 * faces);
+    cut_of_edge_.reserve(2 * faces);
+    crossing_of_edge_.reserve(faces);
   }
 
   /// Drills from the faces the axis pierces; fills `edit` and the counters.
-  void run(const std::vector<mesh::SegmentHit>& hits, LocalEdit& edit, ModelDrill& out) {
+  void run(const std::vector<mesh::SegmentHit>& hits, LocalEdit& edit, DrillStats& out) {
     std::vector<int> seeds;
     for (const auto& hit : hits) seeds.push_back(slot_of(hit.face));
     Pass pass = analyse(seeds);
+    std::vector<Rim> rims = find_rims(pass);
     int refinements = 0;
-    while (too_coarse(pass) && refinements < options_.max_refinements) {
+    while (too_coarse(pass, rims) && refinements < options_.max_refinements) {
       refine(pass.affected);
       ++refinements;
       std::vector<int> alive;
       for (std::size_t f = 0; f < faces_.size(); ++f)
         if (faces_[f].alive) alive.push_back(static_cast<int>(f));
       pass = analyse(alive);
+      rims = find_rims(pass);
     }
     const std::string name = "mesh '" + mesh_.name + "'";
     if (pass.disks_inside > 0)
       out.warnings.push_back(name + ": the drill lies inside a face even after " + std::to_string(refinements) +
                              " refinements; no hole there");
-    else if (too_coarse(pass))
+    else if (too_coarse(pass, rims))
       out.warnings.push_back(name + ": a rim of the hole is still coarse (fewer than " +
                              std::to_string(options_.min_rim_points) + " points, or a chord over a long arc) after " +
                              std::to_string(refinements) + " refinements");
-    const std::vector<Rim> rims = find_rims(pass);
     std::vector<Triangle> tube;
     if (options_.wall) tube = wall(pass, rims, name, out.warnings);
     emit(pass, tube, edit, out);
@@ -161,23 +237,21 @@ class Driller {
     if (std::abs(v.s) <= s_tolerance_) v.s = 0;
   }
 
-  int add_vertex(Vertex v) {
-    probe(v);
-    vertices_.push_back(std::move(v));
+  int add_vertex(const Vertex& v) {
+    probe(vertices_.emplace_back(v));
     return static_cast<int>(vertices_.size()) - 1;
   }
 
   int local_of_old(int old) {
-    const auto [it, added] = local_of_old_.try_emplace(old, static_cast<int>(vertices_.size()));
-    if (added) {
-      Vertex v;
-      v.old = old;
-      v.source = VertexSource::copy(old);
-      v.placed = placed_.row(old).cast<double>().transpose();
-      v.weld = index_.weld[static_cast<std::size_t>(old)];
-      add_vertex(std::move(v));
-    }
-    return it->second;
+    const auto [local, added] =
+        local_of_old_.try_emplace(static_cast<std::uint64_t>(old), static_cast<int>(vertices_.size()));
+    if (!added) return *local;
+    Vertex v;
+    v.old = old;
+    v.source = VertexSource::copy(old);
+    v.placed = placed_.row(old).cast<double>().transpose();
+    v.weld = index_.weld[static_cast<std::size_t>(old)];
+    return add_vertex(v);
   }
 
   [[nodiscard]] const Vertex& vertex(int x) const { return vertices_[static_cast<std::size_t>(x)]; }
@@ -191,31 +265,34 @@ class Driller {
 
   /// The input face `f` as a face of the region (added on first use).
   int slot_of(int f) {
-    const auto [it, added] = slot_of_old_.try_emplace(f, static_cast<int>(faces_.size()));
-    if (added) {
-      const Triangle v{local_of_old(mesh_.faces(f, 0)), local_of_old(mesh_.faces(f, 1)),
-                       local_of_old(mesh_.faces(f, 2))};
-      add_face(v, f, true);
-    }
-    return it->second;
+    const auto [slot, added] = slot_of_old_.try_emplace(static_cast<std::uint64_t>(f), static_cast<int>(faces_.size()));
+    if (added) add_input_face(f);
+    return *slot;
+  }
+
+  void add_input_face(int f) {
+    const Triangle v{local_of_old(mesh_.faces(f, 0)), local_of_old(mesh_.faces(f, 1)), local_of_old(mesh_.faces(f, 2))};
+    add_face(v, f, true);
   }
 
   void add_face(const Triangle& v, int origin, bool original) {
     const int slot = static_cast<int>(faces_.size());
     faces_.push_back({v, origin, original});
-    for (int k = 0; k < 3; ++k)
-      half_edges_.try_emplace(
+    for (int k = 0; k < 3; ++k) {
+      const auto [half_edge, added] = half_edges_.try_emplace(
           directed_key(weld(v[static_cast<std::size_t>(k)]), weld(v[static_cast<std::size_t>((k + 1) % 3)])),
           3 * slot + k);
+      if (!added && *half_edge < 0) *half_edge = 3 * slot + k;
+    }
   }
 
   void kill(int slot) {
     Face& f = faces_[static_cast<std::size_t>(slot)];
     f.alive = false;
     for (int k = 0; k < 3; ++k) {
-      const auto it = half_edges_.find(
+      int* half_edge = half_edges_.find(
           directed_key(weld(f.v[static_cast<std::size_t>(k)]), weld(f.v[static_cast<std::size_t>((k + 1) % 3)])));
-      if (it != half_edges_.end() && it->second == 3 * slot + k) half_edges_.erase(it);
+      if (half_edge != nullptr && *half_edge == 3 * slot + k) *half_edge = -1;
     }
   }
 
@@ -224,14 +301,18 @@ class Driller {
   int neighbor(int slot, int k) {
     const Face& f = faces_[static_cast<std::size_t>(slot)];
     const int u = f.v[static_cast<std::size_t>(k)], v = f.v[static_cast<std::size_t>((k + 1) % 3)];
-    if (const auto it = half_edges_.find(directed_key(weld(v), weld(u))); it != half_edges_.end())
-      return it->second / 3;
+    if (const int* half_edge = half_edges_.find(directed_key(weld(v), weld(u)));
+        half_edge != nullptr && *half_edge >= 0)
+      return *half_edge / 3;
     // Split faces are bordered by split faces only (red-green keeps the region conforming):
     // only an input face borders input faces outside the region.
     if (!f.original) return -1;
     const int g = index_.neighbor[static_cast<std::size_t>(f.origin)][static_cast<std::size_t>(k)];
-    if (g < 0 || slot_of_old_.contains(g)) return -1;
-    return slot_of(g);
+    if (g < 0) return -1;
+    const int added = static_cast<int>(faces_.size());
+    if (!slot_of_old_.try_emplace(static_cast<std::uint64_t>(g), added).second) return -1;
+    add_input_face(g);
+    return added;
   }
 
   // ---- the cylinder against edges and faces ----
@@ -248,11 +329,11 @@ class Driller {
   /// ξ = αμ + (1 − α)ν, d²(ξ, B) − r² = Kα² + Lα + N where K is eq. (18), N = s(a) is eq. (20)
   /// and L = s(b) − s(a) − K is eq. (19) (the quadratic is s(b) at α = 1). The point
   /// (1 − α) a + α b is on the cylinder exactly, projection being affine.
-  const EdgeCut& edge_cut(int x, int y) {
+  int edge_cut(int x, int y) {
     const auto [a, b] = canonical(x, y);
-    const auto [it, added] = edge_cuts_.try_emplace(edge_key(weld(a), weld(b)));
-    EdgeCut& e = it->second;
-    if (!added) return e;
+    const std::uint64_t key = edge_key(weld(a), weld(b));
+    if (const int* known = cut_of_edge_.find(key)) return *known;
+    EdgeCut e;
     const Vertex &va = vertex(a), &vb = vertex(b);
     const double sa = va.s, sb = vb.s, K = projected_length2(va, vb);
     const double L = sb - sa - K, N = sa;
@@ -289,23 +370,32 @@ class Driller {
       e.inside[k] = in;
       e.any_inside = e.any_inside || in;
     }
-    return e;
+    cut_of_edge_.try_emplace(key, static_cast<int>(cuts_.size()));
+    cuts_.push_back(e);
+    return static_cast<int>(cuts_.size()) - 1;
   }
 
-  /// The vertex at root k of edge (a, b) on this side of a seam.
-  int crossing(int x, int y, int k) {
+  /// The cut of edge k of face `slot`; valid until the next new cut.
+  const EdgeCut& cut_of(int slot, int k) {
+    Face& f = faces_[static_cast<std::size_t>(slot)];
+    int& c = f.cut[static_cast<std::size_t>(k)];
+    if (c < 0) c = edge_cut(f.v[static_cast<std::size_t>(k)], f.v[static_cast<std::size_t>((k + 1) % 3)]);
+    return cuts_[static_cast<std::size_t>(c)];
+  }
+
+  /// The vertex at root k of edge (a, b), cut as `e`, on this side of a seam.
+  int crossing(int x, int y, const EdgeCut& e, int k) {
     const auto [a, b] = canonical(x, y);
-    const EdgeCut& e = edge_cut(a, b);
-    auto& slot = crossing_of_edge_.try_emplace(edge_key(a, b), std::array<int, 2>{-1, -1}).first->second;
-    int& id = slot[static_cast<std::size_t>(k)];
+    int& id =
+        (*crossing_of_edge_.try_emplace(edge_key(a, b), std::array<int, 2>{-1, -1}).first)[static_cast<std::size_t>(k)];
     if (id < 0) {
       const double t = e.alpha[static_cast<std::size_t>(k)];
       Vertex v;
       v.source = blend(a, b, t);
       v.placed = (1 - t) * vertex(a).placed + t * vertex(b).placed;
       v.weld = e.weld[static_cast<std::size_t>(k)];
-      id = add_vertex(std::move(v));
-      new_crossings_.insert(id);
+      v.crossing = true;
+      id = add_vertex(v);
     }
     return id;
   }
@@ -360,11 +450,9 @@ class Driller {
 
   /// Step 2 of Algorithm 3's test: does face f meet the open drill?
   bool meets(int slot) {
-    const Face& f = faces_[static_cast<std::size_t>(slot)];
     for (int k = 0; k < 3; ++k)
-      if (edge_cut(f.v[static_cast<std::size_t>(k)], f.v[static_cast<std::size_t>((k + 1) % 3)]).any_inside)
-        return true;
-    return axis_through(f);
+      if (cut_of(slot, k).any_inside) return true;
+    return axis_through(faces_[static_cast<std::size_t>(slot)]);
   }
 
   /// Algorithm 3, step 2: a breadth-first search from `seeds` through faces that meet the
@@ -404,13 +492,13 @@ class Driller {
     int m = 0;
     for (int k = 0; k < 3; ++k) {
       const int u = f.v[static_cast<std::size_t>(k)], v = f.v[static_cast<std::size_t>((k + 1) % 3)];
-      const EdgeCut& e = edge_cut(u, v);
+      const EdgeCut e = cut_of(slot, k);
       const bool forward = canonical(u, v).first == u;
       point[static_cast<std::size_t>(m)] = u;
       for (int r = 0; r <= e.roots; ++r) {
         const int j = forward ? r : e.roots - r;  // sub-segment in canonical order
         inside[static_cast<std::size_t>(m)] = e.inside[static_cast<std::size_t>(j)];
-        if (r < e.roots) point[static_cast<std::size_t>(++m)] = crossing(u, v, forward ? r : e.roots - 1 - r);
+        if (r < e.roots) point[static_cast<std::size_t>(++m)] = crossing(u, v, e, forward ? r : e.roots - 1 - r);
       }
       ++m;
     }
@@ -463,21 +551,26 @@ class Driller {
     return static_cast<int>(rim.chords.size()) + (rim.closed ? 0 : 1);
   }
 
-  [[nodiscard]] bool too_coarse(const Pass& pass) const {
+  [[nodiscard]] bool too_coarse(const Pass& pass, const std::vector<Rim>& rims) const {
     if (pass.affected.empty()) return false;
     if (pass.disks_inside > 0 || pass.coarse_arcs > 0) return true;
-    for (const Rim& rim : find_rims(pass))
+    for (const Rim& rim : rims)
       if (rim_points(rim) < options_.min_rim_points) return true;
     return false;
   }
 
   /// Chains the chords into rims by welded ids (seam copies join).
   [[nodiscard]] std::vector<Rim> find_rims(const Pass& pass) const {
-    std::unordered_map<int, int> from, to;  // welded id -> chord leaving / arriving
-    std::unordered_set<int> pinched;        // welded ids with two chords leaving
+    // Welded id -> the first chord leaving it and whether a second one does (a pinch).
+    FlatMap<std::pair<int, bool>> from;
+    FlatMap<int> to;  // welded id -> the first chord arriving
+    from.reserve(pass.chords.size());
+    to.reserve(pass.chords.size());
     for (std::size_t c = 0; c < pass.chords.size(); ++c) {
-      if (!from.try_emplace(weld(pass.chords[c].p), static_cast<int>(c)).second) pinched.insert(weld(pass.chords[c].p));
-      to.try_emplace(weld(pass.chords[c].e), static_cast<int>(c));
+      const auto [leaving, added] =
+          from.try_emplace(static_cast<std::uint64_t>(weld(pass.chords[c].p)), {static_cast<int>(c), false});
+      if (!added) leaving->second = true;
+      to.try_emplace(static_cast<std::uint64_t>(weld(pass.chords[c].e)), static_cast<int>(c));
     }
     std::vector<char> used(pass.chords.size(), 0);
     std::vector<Rim> rims;
@@ -486,23 +579,24 @@ class Driller {
       // Back to the start of a chain (or once around a loop).
       auto start = static_cast<int>(c0);
       for (std::size_t steps = 0; steps < pass.chords.size(); ++steps) {
-        const auto it = to.find(weld(pass.chords[static_cast<std::size_t>(start)].p));
-        if (it == to.end() || used[static_cast<std::size_t>(it->second)] != 0 || it->second == static_cast<int>(c0))
+        const int* arriving = to.find(static_cast<std::uint64_t>(weld(pass.chords[static_cast<std::size_t>(start)].p)));
+        if (arriving == nullptr || used[static_cast<std::size_t>(*arriving)] != 0 || *arriving == static_cast<int>(c0))
           break;
-        start = it->second;
+        start = *arriving;
       }
       Rim rim;
       for (int c = start;;) {
         used[static_cast<std::size_t>(c)] = 1;
         rim.chords.push_back(c);
-        const auto it = from.find(weld(pass.chords[static_cast<std::size_t>(c)].e));
-        if (it == from.end()) break;
-        if (it->second == start) {
-          rim.closed = !pinched.contains(weld(pass.chords[static_cast<std::size_t>(start)].p));
+        const auto* leaving = from.find(static_cast<std::uint64_t>(weld(pass.chords[static_cast<std::size_t>(c)].e)));
+        if (leaving == nullptr) break;
+        if (leaving->first == start) {
+          rim.closed =
+              !from.find(static_cast<std::uint64_t>(weld(pass.chords[static_cast<std::size_t>(start)].p)))->second;
           break;
         }
-        if (used[static_cast<std::size_t>(it->second)] != 0) break;
-        c = it->second;
+        if (used[static_cast<std::size_t>(leaving->first)] != 0) break;
+        c = leaving->first;
       }
       rims.push_back(std::move(rim));
     }
@@ -513,38 +607,43 @@ class Driller {
 
   int midpoint(int x, int y) {
     const auto [a, b] = canonical(x, y);
-    const auto [it, added] = midpoint_of_edge_.try_emplace(edge_key(a, b), -1);
-    if (added) {
-      Vertex v;
-      v.source = blend(a, b, 0.5);
-      v.placed = 0.5 * (vertex(a).placed + vertex(b).placed);
-      const auto w = midpoint_weld_.try_emplace(edge_key(weld(a), weld(b)), next_weld_);
-      if (w.second) ++next_weld_;
-      v.weld = w.first->second;
-      it->second = add_vertex(std::move(v));
-    }
-    return it->second;
+    const auto [known, added] = midpoint_of_edge_.try_emplace(edge_key(a, b), static_cast<int>(vertices_.size()));
+    if (!added) return *known;
+    Vertex v;
+    v.source = blend(a, b, 0.5);
+    v.placed = 0.5 * (vertex(a).placed + vertex(b).placed);
+    const auto [w, new_weld] = midpoint_weld_.try_emplace(edge_key(weld(a), weld(b)), next_weld_);
+    if (new_weld) ++next_weld_;
+    v.weld = *w;
+    return add_vertex(v);
   }
 
   /// Red-green refinement: the faces in `red` and every face with two or more split edges are
   /// split 1 -> 4 at their edge midpoints, faces with one split edge 1 -> 2 (no T-junctions).
   void refine(const std::vector<int>& red_faces) {
-    std::unordered_set<std::uint64_t> split;  // welded undirected edges
-    std::unordered_set<int> red;
+    FlatMap<char> split;       // welded undirected edges
+    std::vector<int> red;      // in the order they turn red
+    std::vector<char> is_red;  // per slot
+    const auto red_already = [&](int slot) {
+      return static_cast<std::size_t>(slot) < is_red.size() && is_red[static_cast<std::size_t>(slot)] != 0;
+    };
     std::vector<int> queue, candidates;
     const auto edge_of = [&](int slot, int k) {
       const Face& f = faces_[static_cast<std::size_t>(slot)];
       return edge_key(weld(f.v[static_cast<std::size_t>(k)]), weld(f.v[static_cast<std::size_t>((k + 1) % 3)]));
     };
     const auto make_red = [&](int slot) {
-      if (!red.insert(slot).second) return;
-      for (int k = 0; k < 3; ++k) split.insert(edge_of(slot, k));
+      if (red_already(slot)) return;
+      is_red.resize(std::max(is_red.size(), faces_.size()), 0);
+      is_red[static_cast<std::size_t>(slot)] = 1;
+      red.push_back(slot);
+      for (int k = 0; k < 3; ++k) split.try_emplace(edge_of(slot, k), 1);
       queue.push_back(slot);
     };
     for (int s : red_faces) make_red(s);
     const auto marked = [&](int slot) {
       int n = 0;
-      for (int k = 0; k < 3; ++k) n += split.contains(edge_of(slot, k)) ? 1 : 0;
+      for (int k = 0; k < 3; ++k) n += split.find(edge_of(slot, k)) != nullptr ? 1 : 0;
       return n;
     };
     while (!queue.empty()) {
@@ -552,7 +651,7 @@ class Driller {
       queue.pop_back();
       for (int k = 0; k < 3; ++k) {
         const int g = neighbor(s, k);
-        if (g < 0 || red.contains(g)) continue;
+        if (g < 0 || red_already(g)) continue;
         if (marked(g) >= 2)
           make_red(g);
         else
@@ -572,11 +671,11 @@ class Driller {
       add_face({ab, bc, ca}, f.origin, false);
     }
     for (int s : candidates) {
-      if (red.contains(s)) continue;
+      if (red_already(s)) continue;
       const Face f = faces_[static_cast<std::size_t>(s)];
       int k = 0;
-      while (!split.contains(
-          edge_key(weld(f.v[static_cast<std::size_t>(k)]), weld(f.v[static_cast<std::size_t>((k + 1) % 3)]))))
+      while (split.find(edge_key(weld(f.v[static_cast<std::size_t>(k)]),
+                                 weld(f.v[static_cast<std::size_t>((k + 1) % 3)]))) == nullptr)
         ++k;
       kill(s);
       const int u = f.v[static_cast<std::size_t>(k)], w = f.v[static_cast<std::size_t>((k + 1) % 3)],
@@ -673,27 +772,37 @@ class Driller {
 
   // ---- output ----
 
-  int extended(int x, LocalEdit& edit, std::unordered_map<int, int>& ids) const {
+  /// The extended id of region vertex x; `ids` holds those of the new vertices (or −1).
+  int extended(int x, LocalEdit& edit, std::vector<int>& ids) const {
     const Vertex& v = vertex(x);
     if (v.old >= 0) return v.old;
-    const auto [it, added] = ids.try_emplace(x, -1);
-    if (added) it->second = edit.add_vertex(v.source, v.placed, nv_);
-    return it->second;
+    int& id = ids[static_cast<std::size_t>(x)];
+    if (id < 0) id = edit.add_vertex(v.source, v.placed, nv_);
+    return id;
   }
 
   /// Step 5: the input faces of the region that changed are replaced by their pieces.
-  void emit(const Pass& pass, const std::vector<Triangle>& tube, LocalEdit& edit, ModelDrill& out) const {
-    std::unordered_set<int> affected(pass.affected.begin(), pass.affected.end());
-    for (const auto& [old, slot] : slot_of_old_)
-      if (!faces_[static_cast<std::size_t>(slot)].alive || affected.contains(slot)) edit.removed_faces.push_back(old);
+  void emit(const Pass& pass, const std::vector<Triangle>& tube, LocalEdit& edit, DrillStats& out) const {
+    std::vector<char> affected(faces_.size(), 0);
+    for (int s : pass.affected) affected[static_cast<std::size_t>(s)] = 1;
+    for (std::size_t s = 0; s < faces_.size(); ++s)
+      if (faces_[s].original && (!faces_[s].alive || affected[s] != 0)) edit.removed_faces.push_back(faces_[s].origin);
     std::sort(edit.removed_faces.begin(), edit.removed_faces.end());
-    std::unordered_map<int, int> ids;
+    std::vector<int> ids(vertices_.size(), -1);
+    // At most every new point of the region, and n − 2 triangles per kept n-gon.
+    const std::size_t fresh =
+        vertices_.size() - static_cast<std::size_t>(std::count_if(vertices_.begin(), vertices_.end(),
+                                                                  [](const Vertex& v) { return v.old >= 0; }));
+    edit.new_vertices.reserve(edit.new_vertices.size() + fresh);
+    edit.new_placed.reserve(edit.new_placed.size() + fresh);
+    edit.new_faces.reserve(edit.new_faces.size() + faces_.size() + pass.corners.size() - 2 * pass.polygons.size() +
+                           tube.size());
     const auto add = [&](int a, int b, int c) {
       edit.new_faces.push_back({extended(a, edit, ids), extended(b, edit, ids), extended(c, edit, ids)});
     };
     for (std::size_t s = 0; s < faces_.size(); ++s) {
       const Face& f = faces_[s];
-      if (f.alive && !f.original && !affected.contains(static_cast<int>(s))) add(f.v[0], f.v[1], f.v[2]);
+      if (f.alive && !f.original && affected[s] == 0) add(f.v[0], f.v[1], f.v[2]);
     }
     std::vector<Eigen::Vector3d> corners;
     std::vector<Triangle> triangles;
@@ -708,7 +817,8 @@ class Driller {
             pass.corners[static_cast<std::size_t>(first + t[2])]);
     }
     for (const Triangle& t : tube) add(t[0], t[1], t[2]);
-    for (const auto& [x, id] : ids) out.intersection_points += new_crossings_.contains(x) ? 1 : 0;
+    for (std::size_t x = 0; x < ids.size(); ++x)
+      out.intersection_points += ids[x] >= 0 && vertices_[x].crossing ? 1 : 0;
   }
 
   const mesh::Mesh& mesh_;
@@ -722,23 +832,20 @@ class Driller {
   int pass_ = 0;
   std::vector<Vertex> vertices_;
   std::vector<Face> faces_;
-  std::unordered_map<int, int> local_of_old_, slot_of_old_;
-  std::unordered_map<std::uint64_t, int> half_edges_;  ///< welded directed edge -> 3 · face + k
-  std::unordered_map<std::uint64_t, EdgeCut> edge_cuts_;
-  std::unordered_map<std::uint64_t, std::array<int, 2>> crossing_of_edge_;
-  std::unordered_map<std::uint64_t, int> midpoint_of_edge_, midpoint_weld_;
-  std::unordered_set<int> new_crossings_;
+  FlatMap<int> local_of_old_, slot_of_old_;
+  FlatMap<int> half_edges_;  ///< welded directed edge -> 3 · face + k, or −1 once its face is gone
+  std::vector<EdgeCut> cuts_;
+  FlatMap<int> cut_of_edge_;  ///< welded undirected edge -> its cut in cuts_
+  FlatMap<std::array<int, 2>> crossing_of_edge_;
+  FlatMap<int> midpoint_of_edge_, midpoint_weld_;
 };
 
 void require_finite(const Eigen::Vector3d& p, const char* what) {
   if (!p.allFinite()) throw InvalidInputError(std::string("drill: the ") + what + " is not finite");
 }
 
-}  // namespace
-
-ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
-                 const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
-  require_placement_fits(model, placement);
+/// The drill as a Cylinder, after checking its parameters and options.
+Cylinder make_cylinder(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
   require_finite(tip, "tip");
   require_finite(base, "base");
   if (!(radius > 0) || !std::isfinite(radius)) throw InvalidInputError("drill: the radius must be a finite number > 0");
@@ -746,8 +853,6 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
   if (options.min_rim_points < 3) throw InvalidInputError("drill: min_rim_points must be at least 3");
   if (options.max_refinements < 0) throw InvalidInputError("drill: max_refinements must be >= 0");
   if (!(options.snap >= 0) || !std::isfinite(options.snap)) throw InvalidInputError("drill: snap must be >= 0");
-  require_index_fits(model, index, "drill");
-
   Cylinder c;
   c.base = base;
   c.axis = (tip - base).normalized();
@@ -757,15 +862,34 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
   c.predicates = options.predicates;
   c.e1 = any_perpendicular(c.axis);
   c.e2 = c.axis.cross(c.e1);
+  return c;
+}
 
-  std::vector<std::vector<mesh::SegmentHit>> hits(model.meshes.size());
+/// Per mesh, the faces the axis segment [B, A] pierces.
+/// @throws TopologyError when it pierces none.
+std::vector<std::vector<mesh::SegmentHit>> axis_hits(const SurfaceIndex& index, const Cylinder& c, const Eigen::Vector3d& tip) {
+  std::vector<std::vector<mesh::SegmentHit>> hits(index.meshes.size());
   bool any = false;
-  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    hits[i] = index.meshes[i].bvh.segment_hits(base, tip);
+  for (std::size_t i = 0; i < index.meshes.size(); ++i) {
+    hits[i] = index.meshes[i].bvh.segment_hits(c.base, tip);
     any = any || !hits[i].empty();
   }
   if (!any) throw TopologyError("drill: the drill misses the model (its axis from base to tip meets no face)");
+  return hits;
+}
 
+int blended_count(const std::vector<mesh::VertexSource>& origins) {
+  return static_cast<int>(std::count_if(origins.begin(), origins.end(), [](const mesh::VertexSource& o) { return o.count() > 1; }));
+}
+
+}  // namespace
+
+ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
+                 const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
+  require_placement_fits(model, placement);
+  const Cylinder c = make_cylinder(tip, base, radius, options);
+  require_index_fits(model, index, "drill");
+  const auto hits = axis_hits(index, c, tip);
   ModelDrill out;
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
@@ -784,7 +908,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     Driller(m, placement.positions[i], index.meshes[i], c, options).run(hits[i], edit, out);
     out.faces_removed += static_cast<int>(edit.removed_faces.size());
     EditedMesh e = apply_edit(m, placement.positions[i], edit);
-    for (const mesh::VertexSource& o : e.origins) out.new_vertices += o.count() > 1 ? 1 : 0;
+    out.new_vertices += blended_count(e.origins);
     if (e.mesh.face_count() == 0) {
       out.warnings.push_back("mesh '" + m.name + "' is drilled away entirely");
       continue;
@@ -796,6 +920,31 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     out.placed.push_back(std::move(e.placed));
   }
   copy_rig(model, out.model);
+  return out;
+}
+
+LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
+                const DrillOptions& options) {
+  const Cylinder c = make_cylinder(tip, base, radius, options);
+  const auto hits = axis_hits(live.index(), c, tip);
+  const anim::RiggedModel& model = live.model();
+  LiveDrill out;
+  // Every edit is made before any is applied, so that a throw leaves `live` as it was.
+  std::vector<LocalEdit> edits(model.meshes.size());
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    out.faces_in += static_cast<int>(model.meshes[i].face_count());
+    if (hits[i].empty()) continue;
+    Driller(model.meshes[i], live.placement().positions[i], live.index().meshes[i], c, options).run(hits[i], edits[i], out);
+    out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
+  }
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    if (hits[i].empty()) continue;
+    AppliedEdit applied = apply_edit_in_place(live, i, edits[i]);
+    out.new_vertices += blended_count(applied.change.origins);
+    if (model.meshes[i].face_count() == 0) out.warnings.push_back("mesh '" + model.meshes[i].name + "' is drilled away entirely");
+    out.changes.push_back(std::move(applied.change));
+  }
+  for (const mesh::Mesh& m : model.meshes) out.faces_out += static_cast<int>(m.face_count());
   return out;
 }
 

@@ -27,13 +27,8 @@ std::uint64_t directed_key(int a, int b) noexcept {
 std::vector<double> signed_distances(const mesh::RowMatrixXf<3>& placed, const Eigen::Vector3d& n, double d,
                                      const cga::Vector<double>& plane, Predicates predicates) {
   std::vector<double> out(static_cast<std::size_t>(placed.rows()));
-  if (predicates == Predicates::cga) {
-    for (Eigen::Index i = 0; i < placed.rows(); ++i)
-      out[static_cast<std::size_t>(i)] = cga::scalar_product(cga::up<double>(placed.row(i).cast<double>().transpose()), plane);
-  } else {
-    for (Eigen::Index i = 0; i < placed.rows(); ++i)
-      out[static_cast<std::size_t>(i)] = n.dot(placed.row(i).cast<double>().transpose()) - d;
-  }
+  for (Eigen::Index i = 0; i < placed.rows(); ++i)
+    out[static_cast<std::size_t>(i)] = signed_distance(placed.row(i).cast<double>().transpose(), n, d, plane, predicates);
   return out;
 }
 
@@ -42,7 +37,7 @@ double bounding_diagonal(const mesh::RowMatrixXf<3>& points) {
   return static_cast<double>((points.colwise().maxCoeff() - points.colwise().minCoeff()).norm());
 }
 
-std::size_t PositionWelder::Hash::operator()(const std::array<float, 3>& p) const noexcept {
+std::size_t PositionHash::operator()(const std::array<float, 3>& p) const noexcept {
   std::array<std::uint32_t, 3> bits;
   std::memcpy(bits.data(), p.data(), sizeof bits);
   return (static_cast<std::size_t>(bits[0]) * 73856093u) ^ (static_cast<std::size_t>(bits[1]) * 19349663u) ^
@@ -114,10 +109,9 @@ Matrix stack_rows(const Matrix& old, const std::vector<int>& kept, bool all, con
 
 }  // namespace
 
-EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit) {
-  const auto nv = static_cast<int>(old.vertex_count());
+std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& edit) {
   const auto nf = old.face_count();
-  const int total = nv + static_cast<int>(edit.new_vertices.size());
+  const int total = static_cast<int>(old.vertex_count() + static_cast<Eigen::Index>(edit.new_vertices.size()));
   std::vector<int> removed = edit.removed_faces;
   std::sort(removed.begin(), removed.end());
   for (std::size_t i = 0; i < removed.size(); ++i)
@@ -126,6 +120,17 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   for (const auto& t : edit.new_faces)
     for (int x : t)
       if (x < 0 || x >= total) throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
+  if (edit.new_placed.size() != edit.new_vertices.size())
+    throw InvalidInputError("surgery: the edit has a placed position for " + std::to_string(edit.new_placed.size()) +
+                            " of its " + std::to_string(edit.new_vertices.size()) + " new vertices");
+  return removed;
+}
+
+EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit) {
+  const auto nv = static_cast<int>(old.vertex_count());
+  const auto nf = old.face_count();
+  const int total = nv + static_cast<int>(edit.new_vertices.size());
+  const std::vector<int> removed = checked_removed_faces(old, edit);
   // Kept faces in runs between removed ones (block copies), then the new faces.
   MeshFaces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces.size()), 3);
   Eigen::Index row = 0, from = 0;

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -10,9 +11,12 @@
 #include <Eigen/Core>
 
 #include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/multivector.hpp"
+#include "cgamesh/cga/products.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
@@ -25,6 +29,13 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// Key of the directed edge a -> b.
 [[nodiscard]] std::uint64_t directed_key(int a, int b) noexcept;
 
+/// Signed distance of the point x from the plane n·x = d: X·Π with X = up(x) and Π = n + d e∞
+/// (cga), or n·x − d (euclidean).
+[[nodiscard]] inline double signed_distance(const Eigen::Vector3d& x, const Eigen::Vector3d& n, double d,
+                                            const cga::Vector<double>& plane, Predicates predicates) {
+  return predicates == Predicates::cga ? cga::scalar_product(cga::up<double>(x), plane) : n.dot(x) - d;
+}
+
 /// Signed distance of every placed vertex from the plane n·x = d: X·Π with X = up(x) and
 /// Π = n + d e∞ (cga), or n·x − d (euclidean).
 [[nodiscard]] std::vector<double> signed_distances(const mesh::RowMatrixXf<3>& placed, const Eigen::Vector3d& n, double d,
@@ -32,6 +43,11 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 /// Length of the bounding-box diagonal of the rows of `points` (0 when empty).
 [[nodiscard]] double bounding_diagonal(const mesh::RowMatrixXf<3>& points);
+
+/// Hash of a position by its bits.
+struct PositionHash {
+  std::size_t operator()(const std::array<float, 3>& p) const noexcept;
+};
 
 /// Welds vertices by exact position, on demand: only the vertices asked about are hashed, so a
 /// local operation on a large mesh stays local. Seam copies get the same id (the first of them
@@ -42,11 +58,8 @@ class PositionWelder {
   [[nodiscard]] int operator()(int v);
 
  private:
-  struct Hash {
-    std::size_t operator()(const std::array<float, 3>& p) const noexcept;
-  };
   const mesh::RowMatrixXf<3>& positions_;
-  std::unordered_map<std::array<float, 3>, int, Hash> first_;
+  std::unordered_map<std::array<float, 3>, int, PositionHash> first_;
 };
 
 /// Per vertex, the welded id of PositionWelder for the whole mesh.
@@ -60,13 +73,18 @@ class PositionWelder {
 struct LocalEdit {
   std::vector<mesh::VertexSource> new_vertices;  ///< where each new vertex comes from (old mesh)
   std::vector<Eigen::Vector3d> new_placed;       ///< placed position of each new vertex
+  /// Per new vertex: the side of a separation (cut or tear) it is a copy for, ±1, or 0. Copies
+  /// for different sides never weld in the index, though they may share a rest position.
+  std::vector<signed char> new_side;
   std::vector<int> removed_faces;                ///< old faces dropped (each once)
   std::vector<std::array<int, 3>> new_faces;     ///< over extended ids
 
   /// Adds a new vertex; returns its extended id.
-  int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count) {
+  int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count,
+                 signed char side = 0) {
     new_vertices.push_back(source);
     new_placed.push_back(placed);
+    new_side.push_back(side);
     return old_vertex_count + static_cast<int>(new_vertices.size()) - 1;
   }
 };
@@ -79,10 +97,48 @@ struct EditedMesh {
   std::vector<int> vertex_of;               ///< per extended id: its vertex in `mesh`, or -1
 };
 
+/// The removed faces of `edit`, sorted.
+/// @throws InvalidInputError for a removed face or a new face's vertex out of range, a face
+///         removed twice, or a new vertex without a placed position.
+[[nodiscard]] std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& edit);
+
 /// The old faces that are not removed, in their order, then the new faces; vertices no face
 /// uses are dropped, the others keep their relative order (old ones first).
 /// @throws InvalidInputError for an id out of range.
 [[nodiscard]] EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit);
+
+namespace detail {
+
+/// The parts of a LiveModel the operations in place edit.
+struct LiveAccess {
+  static mesh::Mesh& mesh(LiveModel& live, std::size_t i) { return live.model_.meshes[i]; }
+  static mesh::RowMatrixXf<3>& placed(LiveModel& live, std::size_t i) { return live.placement_.positions[i]; }
+  static MeshIndex& index(LiveModel& live, std::size_t i) { return live.index_.meshes[i]; }
+};
+
+}  // namespace detail
+
+/// The result of applying a LocalEdit in place.
+struct AppliedEdit {
+  MeshChange change;
+  int old_vertex_count = 0;
+  std::vector<int> fresh;  ///< per new vertex of the edit: its vertex id, or −1 when no face uses it
+
+  /// The vertex of an extended id (old ids stay).
+  [[nodiscard]] int vertex_of(int x) const noexcept {
+    return x < old_vertex_count ? x : fresh[static_cast<std::size_t>(x - old_vertex_count)];
+  }
+};
+
+/// Applies `edit` to mesh `i` of `live` where it is: new faces fill the slots of removed faces
+/// (the last faces fill any slots left over), used new vertices are appended, and the mesh's
+/// SurfaceIndex follows (welds, adjacency, BVH) in O(edit): as a fresh build would give it,
+/// except that copies for different sides of a separation stay apart.
+/// `adjust`, when given, may move the vertices of the new faces (a tear's opening) once they are
+/// in the mesh, before the index is brought up to date.
+/// @throws InvalidInputError for an id out of range, before anything is changed.
+[[nodiscard]] AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit,
+                                              const std::function<void(const AppliedEdit&)>& adjust = {});
 
 /// Sets everything of `out` but its meshes (skeleton, clips, load warnings) from `model`: the
 /// parts surgery hands on unchanged.

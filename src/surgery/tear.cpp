@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "cgamesh/cga/geometry.hpp"
@@ -88,22 +89,60 @@ class Tearer {
     return path;
   }
 
-  /// Re-triangulates the faces the path crosses and duplicates the path vertices; `side` gets
-  /// the side of each vertex of the result (ModelTear::side).
-  EditedMesh open(const std::vector<PathPoint>& path, int& faces_split, std::vector<signed char>& side) {
+  /// Re-triangulates the faces the path crosses and duplicates the path vertices (edit());
+  /// returns the number of faces split.
+  int prepare(const std::vector<PathPoint>& path) {
     retriangulate(path);
-    faces_split = static_cast<int>(edit_.removed_faces.size());
+    const int faces_split = static_cast<int>(edit_.removed_faces.size());
     duplicate(path);
-    EditedMesh out = apply_edit(mesh_, placed_, edit_);
-    move_apart(path, out);
-    side.assign(static_cast<std::size_t>(out.mesh.vertex_count()), 0);
+    return faces_split;
+  }
+
+  [[nodiscard]] const LocalEdit& edit() const noexcept { return edit_; }
+
+  /// Calls visit(vertex, side) for every copy of a path vertex in the edited mesh, where
+  /// vertex_of maps an extended id to its vertex there (−1: not used).
+  template <class VertexOf, class Visit>
+  void for_each_copy(const VertexOf& vertex_of, const Visit& visit) const {
     for (const auto& point : copies_)
       for (const auto& [x, sign] : point)
-        if (const int v = out.vertex_of[static_cast<std::size_t>(x)]; v >= 0) side[static_cast<std::size_t>(v)] = static_cast<signed char>(sign);
-    return out;
+        if (const int v = vertex_of(x); v >= 0) visit(v, static_cast<signed char>(sign));
+  }
+
+  /// Step 6: the copies move apart along ±n of their step's plane, by open·sin(π s/L) in all
+  /// at arc length s of a path of length L; rest positions follow through the inverse of each
+  /// vertex's blended skinning map (Σ w Aⱼ), so the tear is open in the placed pose.
+  /// @param[in,out] m, placed  the edited mesh and its placed positions
+  template <class VertexOf>
+  void move_apart(const std::vector<PathPoint>& path, mesh::Mesh& m, RowMatrixXf<3>& placed,
+                  const VertexOf& vertex_of) const {
+    if (options_.open == 0) return;
+    std::vector<double> arc(path.size(), 0.0);
+    for (std::size_t i = 1; i < path.size(); ++i) arc[i] = arc[i - 1] + (path[i].x - path[i - 1].x).norm();
+    const double length = arc.back();
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      const double width = options_.open * std::sin(std::numbers::pi * arc[i] / length);
+      const Eigen::Vector3d n = planes_[static_cast<std::size_t>(path[i].step)].n;
+      for (const auto& [x, sign] : copies_[i])
+        if (const int v = vertex_of(x); v >= 0) move_vertex(m, placed, v, 0.5 * width * sign * n);
+    }
   }
 
  private:
+  /// Moves placed vertex v by `shift`, and its rest position by the inverse of its blended
+  /// skinning map.
+  void move_vertex(mesh::Mesh& m, RowMatrixXf<3>& placed, int v, const Eigen::Vector3d& shift) const {
+    const Eigen::Vector3f delta = shift.cast<float>();
+    placed.row(v) += delta.transpose();
+    Eigen::Matrix3f linear = Eigen::Matrix3f::Zero();
+    if (m.skin.empty()) {
+      linear = palette_.affine.front().leftCols<3>();
+    } else {
+      for (int k = 0; k < 4; ++k) linear += m.skin.weights(v, k) * palette_.affine[m.skin.joints(v, k)].leftCols<3>();
+    }
+    m.positions.row(v) += linear.colPivHouseholderQr().solve(delta).transpose();
+  }
+
   // ---- geometry ----------------------------------------------------------------------------
 
   [[nodiscard]] int weld(int v) const { return index_.weld[static_cast<std::size_t>(v)]; }
@@ -500,14 +539,12 @@ class Tearer {
     std::set<std::pair<long long, long long>> path_edges;
     for (int i = 1; i < n; ++i) path_edges.insert(std::minmax(point_key(path, i - 1), point_key(path, i)));
     // Faces around old path vertices become editable new faces too.
-    std::vector<char> removed(static_cast<std::size_t>(mesh_.face_count()), 0);
-    for (const int f : edit_.removed_faces) removed[static_cast<std::size_t>(f)] = 1;
+    std::unordered_set<int> removed(edit_.removed_faces.begin(), edit_.removed_faces.end());
     for (int i = 1; i + 1 < n; ++i) {
       const PathPoint& p = path[static_cast<std::size_t>(i)];
       if (p.kind != PathPoint::Kind::vertex) continue;
       for (const int g : fan(p.face, p.corner)) {
-        if (removed[static_cast<std::size_t>(g)] != 0) continue;
-        removed[static_cast<std::size_t>(g)] = 1;
+        if (!removed.insert(g).second) continue;
         edit_.removed_faces.push_back(g);
         edit_.new_faces.push_back({corner(g, 0), corner(g, 1), corner(g, 2)});
       }
@@ -562,7 +599,7 @@ class Tearer {
             const VertexSource s = x < nv_ ? VertexSource::copy(x) : edit_.new_vertices[static_cast<std::size_t>(x - nv_)];
             const Eigen::Vector3d y = x < nv_ ? placed_.row(x).cast<double>().transpose()
                                               : edit_.new_placed[static_cast<std::size_t>(x - nv_)];
-            it->second = edit_.add_vertex(s, y, nv_);
+            it->second = edit_.add_vertex(s, y, nv_, static_cast<signed char>(sign[static_cast<std::size_t>(g)]));
             point_of_new_.push_back(i);
           }
           x = it->second;
@@ -588,35 +625,6 @@ class Tearer {
     if (mask != 0) s.influence_mask = mask;
   }
 
-  /// Step 6: the copies move apart along ±n of their step's plane, by open·sin(π s/L) in all
-  /// at arc length s of a path of length L; rest positions follow through the inverse of each
-  /// vertex's blended skinning map (Σ w Aⱼ), so the tear is open in the placed pose.
-  void move_apart(const std::vector<PathPoint>& path, EditedMesh& out) const {
-    if (options_.open == 0) return;
-    std::vector<double> arc(path.size(), 0.0);
-    for (std::size_t i = 1; i < path.size(); ++i) arc[i] = arc[i - 1] + (path[i].x - path[i - 1].x).norm();
-    const double length = arc.back();
-    const mesh::Skin& skin = out.mesh.skin;
-    for (std::size_t i = 0; i < path.size(); ++i) {
-      const double width = options_.open * std::sin(std::numbers::pi * arc[i] / length);
-      const Eigen::Vector3d n = planes_[static_cast<std::size_t>(path[i].step)].n;
-      for (const auto& [x, sign] : copies_[i]) {
-        const int v = out.vertex_of[static_cast<std::size_t>(x)];
-        if (v < 0) continue;
-        const Eigen::Vector3f delta = (0.5 * width * sign * n).cast<float>();
-        out.placed.row(v) += delta.transpose();
-        Eigen::Matrix3f linear = Eigen::Matrix3f::Zero();
-        if (skin.empty()) {
-          linear = palette_.affine.front().leftCols<3>();
-        } else {
-          for (int k = 0; k < 4; ++k)
-            linear += skin.weights(v, k) * palette_.affine[skin.joints(v, k)].leftCols<3>();
-        }
-        out.mesh.positions.row(v) += linear.colPivHouseholderQr().solve(delta).transpose();
-      }
-    }
-  }
-
   std::vector<StepPlane> planes_;
   /// Per path point: its copies (extended id, side ±1); empty where it was not split.
   std::vector<std::vector<std::pair<int, int>>> copies_;
@@ -632,12 +640,11 @@ class Tearer {
   std::vector<int> point_of_new_;  ///< per new vertex: its path point
 };
 
-}  // namespace
-
-ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
-               std::span<const Scalpel> scalpel, const TearOptions& options) {
-  require_placement_fits(model, placement);
-  require_index_fits(model, index, "tear");
+/// Checks the input, finds the torn mesh (the one the blade enters first at t₀; later steps
+/// must enter it too) and traces the path; then returns finish(tearer, torn mesh, path).
+template <class Finish>
+auto trace_tear(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
+                std::span<const Scalpel> scalpel, const TearOptions& options, const Finish& finish) {
   if (scalpel.size() < 2)
     throw InvalidInputError("tear: the scalpel needs at least 2 time steps, got " + std::to_string(scalpel.size()));
   if (!(options.open >= 0) || !std::isfinite(options.open))
@@ -648,7 +655,6 @@ ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const
     if (scalpel[i].handle == scalpel[i].tip)
       throw InvalidInputError("tear: scalpel step " + std::to_string(i) + " has handle == tip (a blade of zero length)");
   }
-  // The torn mesh: the one the blade enters first at t0; later steps must enter it too.
   const auto first_hit = [&](std::size_t m, const Scalpel& s) {
     const auto hits = index.meshes[m].bvh.segment_hits(s.handle, s.tip);
     return hits.empty() ? mesh::SegmentHit{} : hits.front();
@@ -675,21 +681,67 @@ ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const
   }
   const std::vector<PathPoint> path = tearer.trace(entries, scalpel);
   if (path.size() < 2) throw TopologyError("tear: the scalpel does not move over the surface: nothing to tear");
-  ModelTear out;
-  out.mesh = torn;
-  EditedMesh edited = tearer.open(path, out.faces_split, out.side);
+  return finish(tearer, tm, path);
+}
+
+int face_total(const anim::RiggedModel& model) {
+  int n = 0;
+  for (const mesh::Mesh& m : model.meshes) n += static_cast<int>(m.face_count());
+  return n;
+}
+
+/// The statistics both forms report, but faces_out and new_vertices.
+void record(TearStats& out, const anim::RiggedModel& model, const std::vector<PathPoint>& path, int faces_split) {
   for (const PathPoint& p : path) out.path.push_back(p.x);
   out.intersection_points = static_cast<int>(path.size());
-  for (const mesh::Mesh& m : model.meshes) out.faces_in += static_cast<int>(m.face_count());
-  out.new_vertices = static_cast<int>(edited.mesh.vertex_count() - model.meshes[tm].vertex_count());
-  // Everything but the torn mesh is copied as it is.
-  copy_rig(model, out.model);
-  for (std::size_t m = 0; m < model.meshes.size(); ++m)
-    out.model.meshes.push_back(m == tm ? std::move(edited.mesh) : model.meshes[m]);
-  out.origins = std::move(edited.origins);
-  out.placed = std::move(edited.placed);
-  for (const mesh::Mesh& m : out.model.meshes) out.faces_out += static_cast<int>(m.face_count());
-  return out;
+  out.faces_in = face_total(model);
+  out.faces_split = faces_split;
+}
+
+}  // namespace
+
+ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
+               std::span<const Scalpel> scalpel, const TearOptions& options) {
+  require_placement_fits(model, placement);
+  require_index_fits(model, index, "tear");
+  return trace_tear(model, placement, index, scalpel, options,
+                    [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
+                      ModelTear out;
+                      out.mesh = static_cast<int>(tm);
+                      record(out, model, path, tearer.prepare(path));
+                      EditedMesh edited = apply_edit(model.meshes[tm], placement.positions[tm], tearer.edit());
+                      const auto vertex_of = [&](int x) { return edited.vertex_of[static_cast<std::size_t>(x)]; };
+                      tearer.move_apart(path, edited.mesh, edited.placed, vertex_of);
+                      out.side.assign(static_cast<std::size_t>(edited.mesh.vertex_count()), 0);
+                      tearer.for_each_copy(vertex_of, [&](int v, signed char side) { out.side[static_cast<std::size_t>(v)] = side; });
+                      out.new_vertices = static_cast<int>(edited.mesh.vertex_count() - model.meshes[tm].vertex_count());
+                      // Everything but the torn mesh is copied as it is.
+                      copy_rig(model, out.model);
+                      for (std::size_t m = 0; m < model.meshes.size(); ++m)
+                        out.model.meshes.push_back(m == tm ? std::move(edited.mesh) : model.meshes[m]);
+                      out.origins = std::move(edited.origins);
+                      out.placed = std::move(edited.placed);
+                      out.faces_out = face_total(out.model);
+                      return out;
+                    });
+}
+
+LiveTear tear(LiveModel& live, std::span<const Scalpel> scalpel, const TearOptions& options) {
+  return trace_tear(live.model(), live.placement(), live.index(), scalpel, options,
+                    [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
+                      LiveTear out;
+                      record(out, live.model(), path, tearer.prepare(path));
+                      AppliedEdit applied = apply_edit_in_place(live, tm, tearer.edit(), [&](const AppliedEdit& a) {
+                        tearer.move_apart(path, detail::LiveAccess::mesh(live, tm), detail::LiveAccess::placed(live, tm),
+                                          [&](int x) { return a.vertex_of(x); });
+                      });
+                      tearer.for_each_copy([&](int x) { return applied.vertex_of(x); },
+                                           [&](int v, signed char side) { out.sides.emplace_back(v, side); });
+                      out.new_vertices = static_cast<int>(applied.change.origins.size());
+                      out.faces_out = face_total(live.model());
+                      out.change = std::move(applied.change);
+                      return out;
+                    });
 }
 
 ModelTear tear(const anim::RiggedModel& model, const Placement& placement, std::span<const Scalpel> scalpel,

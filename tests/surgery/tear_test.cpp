@@ -205,32 +205,6 @@ TEST(Tear, PathRunningOffAnOpenBorderIsATopologyError) {
 
 // ---- properties on real models -----------------------------------------------------------------
 
-/// A stroke over the placed surface: the blade stands on the surface along its normal at a
-/// random point, then moves by `reach` along the surface, for `steps` steps.
-std::vector<Scalpel> random_stroke(const Subject& s, std::mt19937& rng, int steps, double reach) {
-  const mesh::Mesh& m = s.model.meshes[0];
-  const Points& p = s.placement.positions[0];
-  std::uniform_int_distribution<Eigen::Index> pick(0, m.face_count() - 1);
-  const Eigen::Index f = pick(rng);
-  const Eigen::Vector3d a = p.row(m.faces(f, 0)).cast<double>(), b = p.row(m.faces(f, 1)).cast<double>(),
-                        c = p.row(m.faces(f, 2)).cast<double>();
-  std::uniform_real_distribution<double> u(0.05, 0.9);
-  const double r = u(rng), q = u(rng) * (1 - r);
-  Eigen::Vector3d x = a + r * (b - a) + q * (c - a);
-  Eigen::Vector3d n = (b - a).cross(c - a);
-  if (n.norm() == 0) n = Eigen::Vector3d::UnitZ();
-  n.normalize();
-  Eigen::Vector3d dir = random_direction(rng);
-  dir = (dir - dir.dot(n) * n).normalized();
-  const double depth = 0.02 * model_diagonal(s);
-  std::vector<Scalpel> out;
-  for (int i = 0; i < steps; ++i) {
-    out.push_back({x + depth * n, x - depth * n});
-    x += reach / steps * dir;
-  }
-  return out;
-}
-
 class TearProperties : public ::testing::TestWithParam<int> {};
 
 TEST_P(TearProperties, RandomStrokesKeepEveryInvariant) {

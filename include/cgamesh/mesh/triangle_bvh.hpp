@@ -3,7 +3,9 @@
 // that lets surgery find the faces a plane, a scalpel or a drill touches without visiting the
 // whole mesh.
 
+#include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -30,7 +32,7 @@ class TriangleBvh {
   /// @throws InvalidInputError for an index out of range or a non-finite position.
   TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces);
 
-  [[nodiscard]] int face_count() const noexcept { return static_cast<int>(order_.size()); }
+  [[nodiscard]] int face_count() const noexcept { return static_cast<int>(leaf_of_.size()); }
   /// Length of the diagonal of the box around every face (0 when empty).
   [[nodiscard]] double diagonal() const noexcept {
     return nodes_.empty() ? 0.0 : static_cast<double>((nodes_.front().hi - nodes_.front().lo).norm());
@@ -44,6 +46,17 @@ class TriangleBvh {
   /// Every face the closed segment [a, b] crosses, sorted by t (Möller–Trumbore in double).
   [[nodiscard]] std::vector<SegmentHit> segment_hits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
 
+  // Local edits, for surgery in place: each costs at most O(tree depth), so the tree follows an
+  // edited mesh without a rebuild. Boxes only grow (a box that is too large costs a little time
+  // in a query, never a face missed); the tree is not rebalanced.
+
+  /// Face `f` now has the placed corners `corners`.
+  void replace(int f, const std::array<Eigen::Vector3f, 3>& corners);
+  /// Adds a face with id face_count(), in the leaf of face `near` (a face next to it).
+  void append(const std::array<Eigen::Vector3f, 3>& corners, int near);
+  /// Removes face `f`; the last face takes its id (as a swap-remove of the face rows does).
+  void erase(int f);
+
  private:
   struct Node {
     Eigen::Vector3f lo, hi;
@@ -52,11 +65,20 @@ class TriangleBvh {
   };
   template <class Overlaps, class Visit>
   void traverse(Overlaps&& overlaps, Visit&& visit) const;
-  int build(int begin, int end, std::vector<Eigen::Vector3f>& centroids);
+  int build(int begin, int end, int parent, std::vector<Eigen::Vector3f>& centroids);
+  /// Grows the boxes of `leaf` and its ancestors to hold `corners`.
+  void grow(int leaf, const std::array<Eigen::Vector3f, 3>& corners);
+  void set_corners(int f, const std::array<Eigen::Vector3f, 3>& corners);
 
   std::vector<Node> nodes_;
-  std::vector<int> order_;                 ///< face indices in leaf order
+  std::vector<int> parent_;                ///< per node: its parent, −1 for the root
+  std::vector<int> order_;                 ///< face indices in leaf order; −1 for an erased face
   std::vector<Eigen::Vector3f> corners_;   ///< 3 per face, by face index
+  std::vector<int> leaf_of_;               ///< per face: the leaf holding it
+  /// per face: its index in order_, or −1 − its index in the leaf's list in appended_
+  std::vector<int> slot_of_;
+  /// Faces added after the build, per leaf (checked after the leaf's faces in order_).
+  std::unordered_map<int, std::vector<int>> appended_;
 };
 
 }  // namespace cgamesh::mesh

@@ -9,6 +9,7 @@
 #include "cgamesh/cga/multivector.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/placement.hpp"
 
 namespace cgamesh::surgery {
@@ -51,18 +52,31 @@ struct MeshCut {
 [[nodiscard]] MeshCut cut_mesh(const mesh::Mesh& mesh, const mesh::RowMatrixXf<3>& placed,
                                const cga::Vector<double>& plane, const CutOptions& options = {});
 
+/// What a cut did, in place or as a copy.
+struct CutStats {
+  int new_vertices = 0, intersection_points = 0, faces_in = 0, faces_split = 0, cap_triangles = 0;
+  std::vector<std::string> warnings;
+};
+
 /// A model cut in two: both pieces keep the skeleton and clips; each has the pieces of the
 /// meshes that reach its side.
-struct ModelCut {
+struct ModelCut : CutStats {
   std::array<anim::RiggedModel, 2> pieces;
   /// Per piece, per mesh: the input mesh it came from, its vertex origins, and the placed
   /// positions of its vertices.
   std::array<std::vector<int>, 2> source_mesh;
   std::array<std::vector<std::vector<mesh::VertexSource>>, 2> origins;
   std::array<std::vector<mesh::RowMatrixXf<3>>, 2> placed;
-  int new_vertices = 0, intersection_points = 0, faces_in = 0, faces_split = 0, cap_triangles = 0;
   std::array<int, 2> faces_out{0, 0};
-  std::vector<std::string> warnings;
+};
+
+/// A cut made in place in a LiveModel: the two pieces stay in their meshes, side by side and
+/// no longer connected.
+struct LiveCut : CutStats {
+  std::vector<MeshChange> changes;  ///< one per mesh the plane crosses or touches
+  /// Per change, per new face: its piece (0: the side n·x > d, 1: the other side).
+  std::vector<std::vector<signed char>> piece_of_new_face;
+  int faces_out = 0;
 };
 
 /// Cuts every mesh of `model`, placed in `placement` (see place()).
@@ -70,5 +84,16 @@ struct ModelCut {
 /// @throws TopologyError when the plane misses the model (one piece would be empty).
 [[nodiscard]] ModelCut cut(const anim::RiggedModel& model, const Placement& placement,
                            const cga::Vector<double>& plane, const CutOptions& options = {});
+
+/// Cuts `live` in place with the plane Π = n + d e∞: the faces Π crosses are re-triangulated
+/// as cut() does, and every vertex on Π (old, or new on a crossed edge) gets one copy per side,
+/// so each mesh falls apart into its two pieces where it is. Only the faces near Π are visited
+/// (through the BVH): the cost is that of the cross-section, not of the mesh. Untouched faces
+/// keep their piece by the side of their vertices; new faces are listed with theirs.
+/// @throws InvalidInputError for a vector that is not a plane, or `cap` (use cut() for closed
+///         pieces).
+/// @throws TopologyError when the plane crosses no face (nothing to separate) or only touches
+///         the surface (one side would get no face); `live` is then unchanged.
+LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions& options = {});
 
 }  // namespace cgamesh::surgery

@@ -10,6 +10,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
@@ -33,15 +34,8 @@ struct DrillOptions {
   Predicates predicates = Predicates::cga;
 };
 
-/// A drilled model: the skeleton and clips of the input; meshes the drill does not reach are
-/// copied, a mesh drilled away entirely is left out.
-struct ModelDrill {
-  anim::RiggedModel model;
-  /// Per output mesh: the input mesh it came from, the origin of each of its vertices, and the
-  /// #V×3 placed positions of its vertices.
-  std::vector<int> source_mesh;
-  std::vector<std::vector<mesh::VertexSource>> origins;
-  std::vector<mesh::RowMatrixXf<3>> placed;
+/// What a drill did, in place or as a copy.
+struct DrillStats {
   int new_vertices = 0;         ///< output vertices that are not copies of input vertices
   int intersection_points = 0;  ///< rim points on crossed edges (one per edge and seam side)
   int faces_in = 0, faces_out = 0;
@@ -51,6 +45,22 @@ struct ModelDrill {
   int wall_triangles = 0;
   int rims = 0;  ///< boundary loops (or chains, where the hole meets a mesh boundary) of the holes
   std::vector<std::string> warnings;
+};
+
+/// A drilled model: the skeleton and clips of the input; meshes the drill does not reach are
+/// copied, a mesh drilled away entirely is left out.
+struct ModelDrill : DrillStats {
+  anim::RiggedModel model;
+  /// Per output mesh: the input mesh it came from, the origin of each of its vertices, and the
+  /// #V×3 placed positions of its vertices.
+  std::vector<int> source_mesh;
+  std::vector<std::vector<mesh::VertexSource>> origins;
+  std::vector<mesh::RowMatrixXf<3>> placed;
+};
+
+/// A drill made in place in a LiveModel.
+struct LiveDrill : DrillStats {
+  std::vector<MeshChange> changes;  ///< one per mesh the drill reached
 };
 
 /// Drills `model`, placed in `placement`, with the cylinder of radius `radius` around the axis
@@ -71,6 +81,14 @@ struct ModelDrill {
 [[nodiscard]] ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
                                const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                                const DrillOptions& options = {});
+
+/// The same drill in place: each mesh it reaches is edited where it is (faces replaced, new
+/// vertices appended, its SurfaceIndex updated), so the cost is that of the drilled region. A
+/// mesh drilled away entirely stays, with no faces. The vertices the hole removes stay in their
+/// meshes, unreferenced.
+/// @throws as above; on a throw `live` is unchanged.
+LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
+                const DrillOptions& options = {});
 
 /// The same, building the SurfaceIndex first (O(F log F)); build it once and use the overload
 /// above to drill a placed model many times.

@@ -4,6 +4,7 @@
 
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -11,6 +12,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
@@ -36,8 +38,19 @@ struct TearOptions {
   Predicates predicates = Predicates::cga;
 };
 
+/// What a tear did, in place or as a copy.
+struct TearStats {
+  /// The surface path S₀, Q…, S₁, Q…, …, Sₖ in placed coordinates, in order.
+  std::vector<Eigen::Vector3d> path;
+  int new_vertices = 0;         ///< vertices added to the torn mesh
+  int intersection_points = 0;  ///< points of the path (entry points S and crossings Q)
+  int faces_in = 0, faces_out = 0;  ///< faces of the whole model before and after
+  int faces_split = 0;          ///< input faces re-triangulated
+  std::vector<std::string> warnings;
+};
+
 /// A torn model: the torn mesh replaced, everything else (other meshes, skeleton, clips) kept.
-struct ModelTear {
+struct ModelTear : TearStats {
   anim::RiggedModel model;
   int mesh = -1;  ///< index of the torn mesh in `model.meshes`
   /// Per vertex of the torn mesh: its origin in the input mesh (old vertex, point on an old
@@ -47,13 +60,13 @@ struct ModelTear {
   /// #V: +1 or −1 for a copy of a path vertex on the positive or negative side of its step's
   /// plane Π, 0 for every other vertex (and the two ends of the tear).
   std::vector<signed char> side;
-  /// The surface path S₀, Q…, S₁, Q…, …, Sₖ in placed coordinates, in order.
-  std::vector<Eigen::Vector3d> path;
-  int new_vertices = 0;         ///< vertices added to the torn mesh
-  int intersection_points = 0;  ///< points of the path (entry points S and crossings Q)
-  int faces_in = 0, faces_out = 0;  ///< faces of the whole model before and after
-  int faces_split = 0;          ///< input faces re-triangulated
-  std::vector<std::string> warnings;
+};
+
+/// A tear made in place in a LiveModel.
+struct LiveTear : TearStats {
+  MeshChange change;  ///< the torn mesh and what changed in it
+  /// Every copy of a path vertex (vertex id) with its side, +1 or −1, of its step's plane Π.
+  std::vector<std::pair<int, signed char>> sides;
 };
 
 /// Tears `model` along the path a scalpel sweeps over successive time steps (Algorithm 2): per
@@ -73,6 +86,11 @@ struct ModelTear {
 ///         between two entry points cannot be followed (different parts, an open border).
 [[nodiscard]] ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
                              std::span<const Scalpel> scalpel, const TearOptions& options = {});
+
+/// The same tear in place: the torn mesh of `live` is edited where it is (faces replaced, new
+/// vertices appended, its SurfaceIndex updated), so the cost is that of the torn region.
+/// @throws as above; on a throw `live` is unchanged.
+LiveTear tear(LiveModel& live, std::span<const Scalpel> scalpel, const TearOptions& options = {});
 
 /// As above, building the index first.
 [[nodiscard]] ModelTear tear(const anim::RiggedModel& model, const Placement& placement,

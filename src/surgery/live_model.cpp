@@ -1,0 +1,245 @@
+#include "cgamesh/surgery/live_model.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <unordered_map>
+#include <utility>
+
+#include "cgamesh/errors.hpp"
+#include "surgery_common.hpp"
+
+namespace cgamesh::surgery {
+
+LiveModel::LiveModel(anim::RiggedModel model, Placement placement)
+    : model_(std::move(model)), placement_(std::move(placement)), index_(SurfaceIndex::build(model_, placement_)) {}
+
+namespace {
+
+using mesh::RowMatrixXf;
+
+/// Appends the rows of `rows` to `dst` (nothing when `rows` is empty: an absent attribute).
+template <class Matrix>
+void append_rows(Matrix& dst, const Matrix& rows) {
+  if (rows.rows() == 0) return;
+  const Eigen::Index n = dst.rows();
+  dst.conservativeResize(n + rows.rows(), Eigen::NoChange);
+  dst.bottomRows(rows.rows()) = rows;
+}
+
+/// Welded ids of the new vertices, as SurfaceIndex::build gives them (the first vertex at the same
+/// rest position), but copies for different sides of a separation apart: a copy of an old vertex
+/// at its place for no side welds to it, other new vertices to the first new vertex at the same
+/// rest position for the same side (edge and face points never fall on an old vertex: the
+/// operations snap them onto it).
+void weld_new_vertices(const mesh::Mesh& m, std::span<const mesh::VertexSource> origins,
+                       std::span<const signed char> side, int first, std::vector<int>& weld) {
+  struct Hash {
+    std::size_t operator()(const std::pair<std::array<float, 3>, signed char>& k) const noexcept {
+      return PositionHash{}(k.first) ^ static_cast<std::size_t>(k.second + 1);
+    }
+  };
+  std::unordered_map<std::pair<std::array<float, 3>, signed char>, int, Hash> first_at;
+  for (Eigen::Index v = first; v < m.vertex_count(); ++v) {
+    const auto i = static_cast<std::size_t>(v - first);
+    const mesh::VertexSource& o = origins[i];
+    if (side[i] == 0 && o.count() == 1 && m.positions.row(v) == m.positions.row(o.vertex[0])) {
+      weld.push_back(weld[static_cast<std::size_t>(o.vertex[0])]);
+      continue;
+    }
+    // +0.0f folds -0.0f into 0.0f, whose bits differ.
+    const std::array<float, 3> at{m.positions(v, 0) + 0.0f, m.positions(v, 1) + 0.0f, m.positions(v, 2) + 0.0f};
+    weld.push_back(first_at.try_emplace({at, side[i]}, static_cast<int>(v)).first->second);
+  }
+}
+
+std::array<Eigen::Vector3f, 3> placed_corners(const mesh::Mesh& m, const RowMatrixXf<3>& placed, int f) {
+  return {placed.row(m.faces(f, 0)).transpose(), placed.row(m.faces(f, 1)).transpose(),
+          placed.row(m.faces(f, 2)).transpose()};
+}
+
+/// Faces are stored in three parallel places (rows of the mesh, the BVH, the adjacency); this
+/// moves them together and remembers where faces went.
+class FaceSlots {
+ public:
+  FaceSlots(mesh::Mesh& m, const RowMatrixXf<3>& placed, MeshIndex& index)
+      : m_(m), placed_(placed), index_(index), count_(static_cast<int>(m.face_count())) {}
+
+  void put(int f, const std::array<int, 3>& t) {
+    m_.faces.row(f) << t[0], t[1], t[2];
+    index_.bvh.replace(f, placed_corners(m_, placed_, f));
+  }
+
+  /// Appends the faces ts[from…], spread over the BVH leaves of the faces `near` (or face 0).
+  void append(const std::vector<std::array<int, 3>>& ts, std::size_t from, const std::vector<int>& near,
+              std::vector<int>& ids) {
+    if (from >= ts.size()) return;
+    m_.faces.conservativeResize(count_ + static_cast<Eigen::Index>(ts.size() - from), Eigen::NoChange);
+    index_.neighbor.resize(static_cast<std::size_t>(m_.faces.rows()), {-1, -1, -1});
+    for (std::size_t i = from; i < ts.size(); ++i) {
+      const int f = count_++;
+      m_.faces.row(f) << ts[i][0], ts[i][1], ts[i][2];
+      index_.bvh.append(placed_corners(m_, placed_, f), near.empty() ? 0 : near[i % near.size()]);
+      ids.push_back(f);
+    }
+  }
+
+  /// Removes face f; the last face takes its id.
+  void erase(int f) {
+    const int last = --count_;
+    if (f != last) {
+      m_.faces.row(f) = m_.faces.row(last);
+      auto& nb = index_.neighbor;
+      nb[static_cast<std::size_t>(f)] = nb[static_cast<std::size_t>(last)];
+      for (const int g : nb[static_cast<std::size_t>(f)])
+        if (g >= 0)
+          for (int& back : nb[static_cast<std::size_t>(g)])
+            if (back == last) back = f;
+      const auto it = origin_.find(last);
+      const int origin = it == origin_.end() ? last : it->second;
+      if (it != origin_.end()) origin_.erase(it);
+      origin_[f] = origin;
+    } else {
+      origin_.erase(last);
+    }
+    index_.bvh.erase(f);
+  }
+
+  void shrink() {
+    m_.faces.conservativeResize(count_, Eigen::NoChange);
+    index_.neighbor.resize(static_cast<std::size_t>(count_));
+  }
+
+  /// Current id of the face that had id `f` before the edit (faces not moved keep theirs).
+  [[nodiscard]] std::unordered_map<int, int> current_of() const {
+    std::unordered_map<int, int> out;
+    for (const auto& [now, before] : origin_) out.emplace(before, now);
+    return out;
+  }
+
+ private:
+  mesh::Mesh& m_;
+  const RowMatrixXf<3>& placed_;
+  MeshIndex& index_;
+  int count_;
+  std::unordered_map<int, int> origin_;  ///< current id -> id before the edit, for moved faces
+};
+
+}  // namespace
+
+AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit,
+                                const std::function<void(const AppliedEdit&)>& adjust) {
+  mesh::Mesh& m = detail::LiveAccess::mesh(live, i);
+  RowMatrixXf<3>& placed = detail::LiveAccess::placed(live, i);
+  MeshIndex& index = detail::LiveAccess::index(live, i);
+  const std::vector<int> removed = checked_removed_faces(m, edit);
+  const int nv = static_cast<int>(m.vertex_count());
+  AppliedEdit out;
+  out.old_vertex_count = nv;
+  out.change.mesh = static_cast<int>(i);
+  out.change.first_new_vertex = nv;
+  out.change.removed_faces = static_cast<int>(removed.size());
+
+  // Vertices: the used new ones appended, blended from their sources (section 4.3).
+  out.fresh.assign(edit.new_vertices.size(), -1);
+  for (const auto& t : edit.new_faces)
+    for (const int x : t)
+      if (x >= nv) out.fresh[static_cast<std::size_t>(x - nv)] = 0;
+  RowMatrixXf<3> fresh_placed(std::count(out.fresh.begin(), out.fresh.end(), 0), 3);
+  std::vector<signed char> fresh_side;
+  for (std::size_t k = 0; k < out.fresh.size(); ++k) {
+    if (out.fresh[k] < 0) continue;
+    out.fresh[k] = nv + static_cast<int>(out.change.origins.size());
+    fresh_placed.row(static_cast<Eigen::Index>(out.change.origins.size())) = edit.new_placed[k].cast<float>().transpose();
+    out.change.origins.push_back(edit.new_vertices[k]);
+    fresh_side.push_back(edit.new_side.empty() ? 0 : edit.new_side[k]);
+  }
+  mesh::Mesh blended = mesh::resample(m, out.change.origins, MeshFaces(0, 3));
+  append_rows(m.positions, blended.positions);
+  append_rows(m.normals, blended.normals);
+  append_rows(m.uvs, blended.uvs);
+  if (!m.skin.empty()) {
+    append_rows(m.skin.joints, blended.skin.joints);
+    append_rows(m.skin.weights, blended.skin.weights);
+  }
+  append_rows(placed, fresh_placed);
+
+  // Adjacency entries of untouched faces that point into the removed ones: found again below.
+  const auto is_removed = [&](int f) { return std::binary_search(removed.begin(), removed.end(), f); };
+  std::vector<std::pair<int, int>> open_entries;
+  for (const int r : removed)
+    for (const int g : index.neighbor[static_cast<std::size_t>(r)])
+      if (g >= 0 && !is_removed(g))
+        for (int j = 0; j < 3; ++j)
+          if (index.neighbor[static_cast<std::size_t>(g)][static_cast<std::size_t>(j)] == r) open_entries.emplace_back(g, j);
+  std::sort(open_entries.begin(), open_entries.end());  // a face next to a removed one twice
+  open_entries.erase(std::unique(open_entries.begin(), open_entries.end()), open_entries.end());
+
+  // Faces: new ones into the removed slots, then appended, or the slots left over filled by the
+  // last faces (largest slot first, so a face moved is never one still to be removed).
+  std::vector<std::array<int, 3>> faces(edit.new_faces);
+  for (auto& t : faces)
+    for (int& x : t) x = out.vertex_of(x);
+  FaceSlots slots(m, placed, index);
+  const std::size_t reused = std::min(removed.size(), faces.size());
+  std::vector<int>& ids = out.change.new_faces;
+  for (std::size_t k = 0; k < reused; ++k) {
+    slots.put(removed[k], faces[k]);
+    ids.push_back(removed[k]);
+  }
+  slots.append(faces, reused, removed, ids);
+  for (std::size_t k = removed.size(); k-- > reused;) slots.erase(removed[k]);
+  slots.shrink();
+  const std::unordered_map<int, int> current = slots.current_of();
+  const auto now = [&](int f) {
+    const auto it = current.find(f);
+    return it == current.end() ? f : it->second;
+  };
+  for (int& f : ids) f = now(f);
+  for (const auto& [before, after] : current)
+    if (!is_removed(before)) out.change.moved_faces.push_back({before, after});
+  std::sort(out.change.moved_faces.begin(), out.change.moved_faces.end());
+
+  // The vertices are final once adjusted: then the welds, the BVH boxes, the adjacency.
+  if (adjust) {
+    adjust(out);
+    for (const int f : ids) index.bvh.replace(f, placed_corners(m, placed, f));
+  }
+  weld_new_vertices(m, out.change.origins, fresh_side, nv, index.weld);
+
+  // Adjacency of the new faces and of the open entries: twins by welded edge. Sorted by the
+  // undirected edge, a manifold edge is a run of two, one in each direction.
+  struct Edge {
+    std::uint64_t key;  ///< undirected welded edge
+    int slot;           ///< 3 face + k
+    bool forward;       ///< welded ids increase along the face's edge
+  };
+  std::vector<Edge> edges;
+  edges.reserve(3 * ids.size() + open_entries.size());
+  const auto add_edge = [&](int f, int k) {
+    const int a = index.weld[static_cast<std::size_t>(m.faces(f, k))];
+    const int b = index.weld[static_cast<std::size_t>(m.faces(f, (k + 1) % 3))];
+    if (a != b) edges.push_back({edge_key(a, b), 3 * f + k, a < b});
+    else index.neighbor[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = -1;
+  };
+  for (const int f : ids)
+    for (int k = 0; k < 3; ++k) add_edge(f, k);
+  for (const auto& [g, j] : open_entries) add_edge(now(g), j);
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.key < y.key; });
+  const auto set = [&](int slot, int face) {
+    index.neighbor[static_cast<std::size_t>(slot / 3)][static_cast<std::size_t>(slot % 3)] = face;
+  };
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t end = i + 1;
+    while (end < edges.size() && edges[end].key == edges[i].key) ++end;
+    if (end - i == 2 && edges[i].forward != edges[i + 1].forward) {
+      set(edges[i].slot, edges[i + 1].slot / 3);
+      set(edges[i + 1].slot, edges[i].slot / 3);
+    } else {
+      for (std::size_t e = i; e < end; ++e) set(edges[e].slot, -1);
+    }
+    i = end;
+  }
+  return out;
+}
+
+}  // namespace cgamesh::surgery

@@ -1,0 +1,125 @@
+// The BVH edited face by face (replace, append, erase) answers every query as a BVH built from
+// scratch over the same triangles does.
+#include "cgamesh/mesh/triangle_bvh.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "cgamesh/errors.hpp"
+
+namespace {
+
+using namespace cgamesh;
+using Triangle = std::array<Eigen::Vector3f, 3>;
+
+/// A BVH built from scratch over `tris` (face i = tris[i]).
+mesh::TriangleBvh fresh(const std::vector<Triangle>& tris) {
+  mesh::RowMatrixXf<3> p(static_cast<Eigen::Index>(3 * tris.size()), 3);
+  mesh::TriangleBvh::Faces f(static_cast<Eigen::Index>(tris.size()), 3);
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    for (std::size_t k = 0; k < 3; ++k) p.row(static_cast<Eigen::Index>(3 * i + k)) = tris[i][k].transpose();
+    f.row(static_cast<Eigen::Index>(i)) << static_cast<int>(3 * i), static_cast<int>(3 * i + 1), static_cast<int>(3 * i + 2);
+  }
+  return {p, f};
+}
+
+Triangle random_triangle(std::mt19937& rng, float size) {
+  std::uniform_real_distribution<float> at(0, 10), off(-size, size);
+  const Eigen::Vector3f c(at(rng), at(rng), at(rng) * 0.1f);
+  Triangle t;
+  for (auto& x : t) x = c + Eigen::Vector3f(off(rng), off(rng), off(rng));
+  return t;
+}
+
+std::vector<int> sorted(std::vector<int> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+TEST(TriangleBvh, EditedTreeAnswersLikeAFreshOne) {
+  std::mt19937 rng(11);
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 500; ++i) tris.push_back(random_triangle(rng, 0.3f));
+  mesh::TriangleBvh bvh = fresh(tris);
+  std::uniform_real_distribution<double> coord(-1, 11);
+  for (int round = 0; round < 40; ++round) {
+    for (int op = 0; op < 25; ++op) {
+      std::uniform_int_distribution<int> face(0, static_cast<int>(tris.size()) - 1);
+      const int kind = op % 3, f = face(rng);
+      if (kind == 0) {
+        tris[static_cast<std::size_t>(f)] = random_triangle(rng, 0.5f);
+        bvh.replace(f, tris[static_cast<std::size_t>(f)]);
+      } else if (kind == 1) {
+        tris.push_back(random_triangle(rng, 0.4f));
+        bvh.append(tris.back(), f);
+      } else {
+        tris[static_cast<std::size_t>(f)] = tris.back();
+        tris.pop_back();
+        bvh.erase(f);
+      }
+    }
+    ASSERT_EQ(bvh.face_count(), static_cast<int>(tris.size()));
+    const mesh::TriangleBvh reference = fresh(tris);
+    for (int q = 0; q < 20; ++q) {
+      const Eigen::Vector3d a(coord(rng), coord(rng), 3), b(coord(rng), coord(rng), -3);
+      const auto got = bvh.segment_hits(a, b), want = reference.segment_hits(a, b);
+      ASSERT_EQ(got.size(), want.size());
+      for (std::size_t i = 0; i < got.size(); ++i) {
+        EXPECT_EQ(got[i].face, want[i].face);
+        EXPECT_DOUBLE_EQ(got[i].t, want[i].t);
+      }
+      // The box and slab queries may return a few more faces (whole leaves): they must return
+      // every face whose own box meets the box or the slab, and only faces that exist.
+      const Eigen::Vector3d lo = a.cwiseMin(b), hi = lo + Eigen::Vector3d::Constant(1.5);
+      const Eigen::Vector3d n = (b - a).normalized();
+      const double d = n.dot(a), tolerance = 0.01;
+      std::vector<int> in_box, near;
+      bvh.faces_in_box(lo, hi, in_box);
+      bvh.faces_near_plane(n, d, tolerance, near);
+      in_box = sorted(in_box);
+      near = sorted(near);
+      for (const auto& found : {in_box, near}) {
+        EXPECT_TRUE(std::adjacent_find(found.begin(), found.end()) == found.end()) << "a face twice";
+        for (const int f : found) ASSERT_LT(f, static_cast<int>(tris.size()));
+      }
+      for (std::size_t f = 0; f < tris.size(); ++f) {
+        Eigen::Vector3d tlo = Eigen::Vector3d::Constant(INFINITY), thi = -tlo;
+        double smin = INFINITY, smax = -INFINITY;
+        for (const auto& x : tris[f]) {
+          tlo = tlo.cwiseMin(x.cast<double>());
+          thi = thi.cwiseMax(x.cast<double>());
+          smin = std::min(smin, n.dot(x.cast<double>()) - d);
+          smax = std::max(smax, n.dot(x.cast<double>()) - d);
+        }
+        if ((tlo.array() <= hi.array()).all() && (thi.array() >= lo.array()).all()) {
+          EXPECT_TRUE(std::binary_search(in_box.begin(), in_box.end(), static_cast<int>(f))) << f;
+        }
+        if (smin <= tolerance && smax >= -tolerance) {
+          EXPECT_TRUE(std::binary_search(near.begin(), near.end(), static_cast<int>(f))) << f;
+        }
+      }
+    }
+  }
+}
+
+TEST(TriangleBvh, EditsCheckTheirArguments) {
+  std::mt19937 rng(3);
+  mesh::TriangleBvh bvh = fresh({random_triangle(rng, 1), random_triangle(rng, 1)});
+  EXPECT_THROW(bvh.replace(2, random_triangle(rng, 1)), InvalidInputError);
+  EXPECT_THROW(bvh.append(random_triangle(rng, 1), -1), InvalidInputError);
+  EXPECT_THROW(bvh.erase(5), InvalidInputError);
+  Triangle bad = random_triangle(rng, 1);
+  bad[1].x() = NAN;
+  EXPECT_THROW(bvh.replace(0, bad), InvalidInputError);
+  bvh.erase(0);
+  bvh.erase(0);
+  EXPECT_EQ(bvh.face_count(), 0);
+  EXPECT_TRUE(bvh.segment_hits(Eigen::Vector3d(-20, -20, -20), Eigen::Vector3d(20, 20, 20)).empty());
+}
+
+}  // namespace
