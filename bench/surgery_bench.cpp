@@ -5,7 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
-#include <functional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -72,14 +72,37 @@ surgery::Predicates predicates_of(const benchmark::State& state) {
   return state.range(0) == 0 ? surgery::Predicates::cga : surgery::Predicates::euclidean;
 }
 
+/// A slanted plane through the centre of the placed mesh.
+cga::Vector<double> slanted_plane(const Subject& s) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0.2, 1, 0.1).normalized();
+  return cga::plane(n, n.dot(s.centre));
+}
+
+/// Tip and base of a slanted drill axis through the centre of the placed mesh of size `size`.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> slanted_axis(const Subject& s, double size) {
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 0.2, 0.1).normalized();
+  return {s.centre + size * axis, s.centre - size * axis};
+}
+
+/// A stroke of 3 blade positions over the front of the placed mesh of size `size`: the blade
+/// points from in front of the body at its centre and moves sideways and up by 4 % of the size.
+std::vector<surgery::Scalpel> front_stroke(const Subject& s, double size) {
+  const Eigen::Vector3d front = Eigen::Vector3d(0.1, 0.1, 1).normalized(), move = Eigen::Vector3d(-0.5, 1, 0).normalized();
+  std::vector<surgery::Scalpel> steps;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d c = s.centre + 0.02 * size * i * move;
+    steps.push_back({c + size * front, c});
+  }
+  return steps;
+}
+
 /// Cuts through the centre of the placed mesh with a slanted plane.
 void cut(benchmark::State& state, const Subject* s) {
   if (!present(state, s)) return;
   surgery::CutOptions options;
   options.predicates = predicates_of(state);
   options.cap = state.range(1) != 0;
-  const Eigen::Vector3d n = Eigen::Vector3d(0.2, 1, 0.1).normalized();
-  const cga::Vector<double> plane = cga::plane(n, n.dot(s->centre));
+  const cga::Vector<double> plane = slanted_plane(*s);
   int faces = 0;
   for (auto _ : state) {
     surgery::ModelCut c = surgery::cut(s->model, s->placement, plane, options);
@@ -103,8 +126,7 @@ void drill(benchmark::State& state, const Subject* s) {
   surgery::DrillOptions options;
   options.predicates = predicates_of(state);
   const double size = index.meshes[0].bvh.diagonal();
-  const Eigen::Vector3d axis = Eigen::Vector3d(1, 0.2, 0.1).normalized();
-  const Eigen::Vector3d tip = s->centre + size * axis, base = s->centre - size * axis;
+  const auto [tip, base] = slanted_axis(*s, size);
   surgery::ModelDrill d;
   for (auto _ : state) {
     d = surgery::drill(s->model, s->placement, index, tip, base, 0.02 * size, options);
@@ -120,22 +142,14 @@ void BM_DrillCesiumMan(benchmark::State& state) { drill(state, &cesium()); }
 void BM_DrillOgre(benchmark::State& state) { drill(state, ogre()); }
 void BM_DrillMillion(benchmark::State& state) { drill(state, &million()); }
 
-/// Tears along a stroke of 3 blade positions over the front of the placed mesh: the blade
-/// points from in front of the body at its centre and moves sideways and up by 6% of the mesh's
-/// size in all; the SurfaceIndex is built once, outside the timed loop.
+/// Tears along front_stroke(); the SurfaceIndex is built once, outside the timed loop.
 void tear(benchmark::State& state, const Subject* s) {
   if (!present(state, s)) return;
   const surgery::SurfaceIndex index = surgery::SurfaceIndex::build(s->model, s->placement);
   surgery::TearOptions options;
   options.predicates = predicates_of(state);
   options.open = 0.002 * index.meshes[0].bvh.diagonal();
-  const double size = index.meshes[0].bvh.diagonal();
-  const Eigen::Vector3d front = Eigen::Vector3d(0.1, 0.1, 1).normalized(), move(-0.5, 1, 0);
-  std::vector<surgery::Scalpel> steps;
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d c = s->centre + 0.02 * size * i * move.normalized();
-    steps.push_back({c + size * front, c});
-  }
+  const std::vector<surgery::Scalpel> steps = front_stroke(*s, index.meshes[0].bvh.diagonal());
   surgery::ModelTear t;
   try {
     t = surgery::tear(s->model, s->placement, index, steps, options);
@@ -158,95 +172,49 @@ void BM_TearOgre(benchmark::State& state) { tear(state, ogre()); }
 void BM_TearMillion(benchmark::State& state) { tear(state, &million()); }
 
 // ---- in place (LiveModel) ------------------------------------------------------------------
-// The same operations editing one LiveModel where it is: each iteration operates at another
-// place of the model (a grid over the front of the body, or parallel planes), so every timed
-// operation is a real one on a real, progressively operated model. The places are tried once on
-// a scratch copy, untimed, and only those that hit the model are timed.
+// The same operations at the same places, editing a LiveModel where it is instead of returning a
+// new model: each iteration operates on a fresh copy of the placed, indexed model (copied while
+// the timer is paused), so it times exactly the operation the copying benchmark above times.
 
-/// One operation at place i (0 ≤ i < places) on a LiveModel; throws when it misses there.
-using LiveOperation = std::function<void(surgery::LiveModel&, int)>;
-
-void live(benchmark::State& state, const Subject* s, int places, const LiveOperation& operate) {
+/// Times operate(live) on a fresh copy of `s` per iteration.
+template <class Operate>
+void in_place(benchmark::State& state, const Subject* s, const Operate& operate) {
   if (!present(state, s)) return;
-  std::vector<int> hits;
-  {
-    surgery::LiveModel scratch(s->model, s->placement);
-    for (int i = 0; i < places; ++i) {
-      try {
-        operate(scratch, i);
-        hits.push_back(i);
-      } catch (const Error&) {
-        // this place misses the (already operated) model
-      }
-    }
-  }
-  if (hits.empty()) {
-    state.SkipWithError("no place hits the model");
-    return;
-  }
-  surgery::LiveModel model(s->model, s->placement);
-  std::size_t next = 0;
+  const surgery::LiveModel original(s->model, s->placement);
+  surgery::LiveModel live(original);
   for (auto _ : state) {
-    if (next == hits.size()) {
-      state.PauseTiming();
-      model = surgery::LiveModel(s->model, s->placement);
-      next = 0;
-      state.ResumeTiming();
-    }
-    operate(model, hits[next++]);
+    state.PauseTiming();
+    live = original;  // the operated copy is freed, and a fresh one made, untimed
+    state.ResumeTiming();
+    operate(live);
   }
-  state.counters["places"] = static_cast<double>(hits.size());
   state.SetLabel(state.range(0) == 0 ? "cga in place" : "euclidean in place");
 }
 
-/// A point of a 6×6 grid over ±25 % of the model's size across its front, centred on `centre`.
-Eigen::Vector3d grid_point(const Subject& s, double size, int i) {
-  return s.centre + 0.1 * size * Eigen::Vector3d((i % 6) - 2.5, (i / 6) - 2.5, 0);
-}
-
-/// Length of the diagonal of the box around the placed mesh.
-double size_of(const Subject& s) {
-  const auto& p = s.placement.positions[0];
-  return static_cast<double>((p.colwise().maxCoeff() - p.colwise().minCoeff()).norm());
-}
-
 void cut_in_place(benchmark::State& state, const Subject* s) {
-  if (!present(state, s)) return;
   surgery::CutOptions options;
   options.predicates = predicates_of(state);
-  const Eigen::Vector3d n = Eigen::Vector3d(0.2, 1, 0.1).normalized();
-  const double size = size_of(*s);
-  live(state, s, 24, [&](surgery::LiveModel& m, int i) {
-    benchmark::DoNotOptimize(surgery::cut(m, cga::plane(n, n.dot(s->centre) + 0.015 * size * (i - 12)), options));
+  in_place(state, s, [&](surgery::LiveModel& live) {
+    benchmark::DoNotOptimize(surgery::cut(live, slanted_plane(*s), options));
   });
 }
 
 void tear_in_place(benchmark::State& state, const Subject* s) {
-  if (!present(state, s)) return;
   surgery::TearOptions options;
   options.predicates = predicates_of(state);
-  const double size = size_of(*s);
-  options.open = 0.002 * size;
-  const Eigen::Vector3d front = Eigen::Vector3d(0.1, 0.1, 1).normalized(), move = Eigen::Vector3d(-0.5, 1, 0).normalized();
-  live(state, s, 36, [&](surgery::LiveModel& m, int i) {
-    std::vector<surgery::Scalpel> steps;
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d c = grid_point(*s, size, i) + 0.02 * size * k * move;
-      steps.push_back({c + size * front, c});
-    }
-    benchmark::DoNotOptimize(surgery::tear(m, steps, options));
+  in_place(state, s, [&](surgery::LiveModel& live) {
+    options.open = 0.002 * live.index().meshes[0].bvh.diagonal();
+    benchmark::DoNotOptimize(surgery::tear(live, front_stroke(*s, live.index().meshes[0].bvh.diagonal()), options));
   });
 }
 
 void drill_in_place(benchmark::State& state, const Subject* s) {
-  if (!present(state, s)) return;
   surgery::DrillOptions options;
   options.predicates = predicates_of(state);
-  const double size = size_of(*s);
-  const Eigen::Vector3d axis = Eigen::Vector3d(0.1, 0.2, 1).normalized();
-  live(state, s, 36, [&](surgery::LiveModel& m, int i) {
-    const Eigen::Vector3d at = grid_point(*s, size, i);
-    benchmark::DoNotOptimize(surgery::drill(m, at + size * axis, at - size * axis, 0.02 * size, options));
+  in_place(state, s, [&](surgery::LiveModel& live) {
+    const double size = live.index().meshes[0].bvh.diagonal();
+    const auto [tip, base] = slanted_axis(*s, size);
+    benchmark::DoNotOptimize(surgery::drill(live, tip, base, 0.02 * size, options));
   });
 }
 

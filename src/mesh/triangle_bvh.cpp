@@ -173,6 +173,13 @@ void TriangleBvh::grow(int leaf, const std::array<Eigen::Vector3f, 3>& corners) 
   }
 }
 
+void TriangleBvh::reserve(int faces) {
+  const auto n = static_cast<std::size_t>(std::max(faces, 0));
+  corners_.reserve(3 * n);
+  leaf_of_.reserve(n);
+  slot_of_.reserve(n);
+}
+
 void TriangleBvh::replace(int f, const std::array<Eigen::Vector3f, 3>& corners) {
   if (f < 0 || f >= face_count()) throw InvalidInputError("TriangleBvh: no face " + std::to_string(f) + " to replace");
   set_corners(f, corners);

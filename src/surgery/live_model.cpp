@@ -11,7 +11,33 @@
 namespace cgamesh::surgery {
 
 LiveModel::LiveModel(anim::RiggedModel model, Placement placement)
-    : model_(std::move(model)), placement_(std::move(placement)), index_(SurfaceIndex::build(model_, placement_)) {}
+    : model_(std::move(model)), placement_(std::move(placement)), index_(SurfaceIndex::build(model_, placement_)) {
+  reserve_headroom();
+}
+
+LiveModel::LiveModel(const LiveModel& other) : model_(other.model_), placement_(other.placement_), index_(other.index_) {
+  reserve_headroom();  // a copied vector has no spare capacity
+}
+
+LiveModel& LiveModel::operator=(const LiveModel& other) {
+  if (this != &other) {
+    model_ = other.model_;
+    placement_ = other.placement_;
+    index_ = other.index_;
+    reserve_headroom();
+  }
+  return *this;
+}
+
+void LiveModel::reserve_headroom() {
+  // So that the first operations on a large mesh do not reallocate (copy) the whole index.
+  for (MeshIndex& m : index_.meshes) {
+    const std::size_t faces = m.neighbor.size() + m.neighbor.size() / 4 + 1024;
+    m.neighbor.reserve(faces);
+    m.bvh.reserve(static_cast<int>(faces));
+    m.weld.reserve(m.weld.size() + m.weld.size() / 4 + 1024);
+  }
+}
 
 namespace {
 

@@ -50,6 +50,8 @@ class TriangleBvh {
   // edited mesh without a rebuild. Boxes only grow (a box that is too large costs a little time
   // in a query, never a face missed); the tree is not rebalanced.
 
+  /// Room for `faces` faces in all without reallocating (append() grows the arrays otherwise).
+  void reserve(int faces);
   /// Face `f` now has the placed corners `corners`.
   void replace(int f, const std::array<Eigen::Vector3f, 3>& corners);
   /// Adds a face with id face_count(), in the leaf of face `near` (a face next to it).

@@ -44,6 +44,12 @@ class LiveModel {
   /// Indexes `model` as placed in `placement` (SurfaceIndex::build, O(F log F)).
   /// @throws InvalidInputError when the placement does not fit the model or holds NaN.
   LiveModel(anim::RiggedModel model, Placement placement);
+  /// A copy to operate on while keeping this one (as a snapshot to go back to).
+  LiveModel(const LiveModel& other);
+  LiveModel& operator=(const LiveModel& other);
+  LiveModel(LiveModel&&) noexcept = default;
+  LiveModel& operator=(LiveModel&&) noexcept = default;
+  ~LiveModel() = default;
 
   [[nodiscard]] const anim::RiggedModel& model() const noexcept { return model_; }
   [[nodiscard]] const Placement& placement() const noexcept { return placement_; }
@@ -53,6 +59,8 @@ class LiveModel {
 
  private:
   friend struct detail::LiveAccess;
+  /// Headroom in the index's arrays for the faces and vertices operations add.
+  void reserve_headroom();
   anim::RiggedModel model_;
   Placement placement_;
   SurfaceIndex index_;
