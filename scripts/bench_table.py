@@ -50,20 +50,24 @@ def ms(b):
 
 
 def surgery(rows):
-    print("\n| operation | model | faces | cga | euclidean | cga ÷ euclidean | seed ÷ cga |\n|---|---|---|---|---|---|---|")
+    print("\n| operation | model | faces | new model: cga | euclidean | ÷ | in place: cga | euclidean | ÷ "
+          "| seed ÷ cga (new, in place) |\n|---|---|---|---|---|---|---|---|---|---|")
     for op in ("Cut", "Tear", "Drill"):
         for model in ("CesiumMan", "Ogre", "Million"):
             ga = rows.get(f"BM_{op}{model}/0/0" if op == "Cut" else f"BM_{op}{model}/0")
             eu = rows.get(f"BM_{op}{model}/1/0" if op == "Cut" else f"BM_{op}{model}/1")
-            if not ga or not eu or ga.get("error_occurred"):
+            live_ga = rows.get(f"BM_{op}InPlace{model}/0")
+            live_eu = rows.get(f"BM_{op}InPlace{model}/1")
+            if not ga or not eu or ga.get("error_occurred") or not live_ga or not live_eu:
                 continue
-            seed = f"{SEED_MS[op] / ms(ga):,.0f}×" if model == "CesiumMan" else ""
+            seed = (f"{SEED_MS[op] / ms(ga):,.0f}×, {SEED_MS[op] / ms(live_ga):,.0f}×" if model == "CesiumMan" else "")
             print(f"| {op.lower()} | {model} | {int(ga.get('faces', 0))} | {ms(ga):.3f} ms | {ms(eu):.3f} ms | "
-                  f"{ms(ga) / ms(eu):.2f} | {seed} |")
+                  f"{ms(ga) / ms(eu):.2f} | {ms(live_ga):.3f} ms | {ms(live_eu):.3f} ms | "
+                  f"{ms(live_ga) / ms(live_eu):.2f} | {seed} |")
     for model in ("CesiumMan", "Ogre", "Million"):
         cap = rows.get(f"BM_Cut{model}/0/1")
         if cap and not cap.get("error_occurred"):
-            print(f"| cut + cap | {model} | {int(cap.get('faces', 0))} | {ms(cap):.3f} ms | | | |")
+            print(f"| cut + cap | {model} | {int(cap.get('faces', 0))} | {ms(cap):.3f} ms | | | | | | |")
 
 
 def deform(rows):

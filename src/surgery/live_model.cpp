@@ -1,6 +1,8 @@
 #include "cgamesh/surgery/live_model.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <functional>
 #include <unordered_map>
 #include <utility>
@@ -95,18 +97,19 @@ class FaceSlots {
     index_.bvh.replace(f, placed_corners(m_, placed_, f));
   }
 
-  /// Appends the faces ts[from…], spread over the BVH leaves of the faces `near` (or face 0).
-  void append(const std::vector<std::array<int, 3>>& ts, std::size_t from, const std::vector<int>& near,
-              std::vector<int>& ids) {
-    if (from >= ts.size()) return;
-    m_.faces.conservativeResize(count_ + static_cast<Eigen::Index>(ts.size() - from), Eigen::NoChange);
-    index_.neighbor.resize(static_cast<std::size_t>(m_.faces.rows()), {-1, -1, -1});
-    for (std::size_t i = from; i < ts.size(); ++i) {
-      const int f = count_++;
-      m_.faces.row(f) << ts[i][0], ts[i][1], ts[i][2];
-      index_.bvh.append(placed_corners(m_, placed_, f), near.empty() ? 0 : near[i % near.size()]);
-      ids.push_back(f);
-    }
+  /// Makes room for n faces at the end (one reallocation for all of them).
+  void reserve_more(int n) {
+    if (n <= 0) return;
+    m_.faces.conservativeResize(count_ + n, Eigen::NoChange);
+    index_.neighbor.resize(static_cast<std::size_t>(count_ + n), {-1, -1, -1});
+  }
+
+  /// Adds face t after the others (room made by reserve_more), in the BVH leaf of face `near`.
+  int append(const std::array<int, 3>& t, int near) {
+    const int f = count_++;
+    m_.faces.row(f) << t[0], t[1], t[2];
+    index_.bvh.append(placed_corners(m_, placed_, f), near);
+    return f;
   }
 
   /// Removes face f; the last face takes its id.
@@ -149,6 +152,74 @@ class FaceSlots {
   int count_;
   std::unordered_map<int, int> origin_;  ///< current id -> id before the edit, for moved faces
 };
+
+/// 3-D Morton code of p in the box [lo, lo + 1/scale]: 10 bits per axis.
+std::uint32_t morton(const Eigen::Vector3f& p, const Eigen::Vector3f& lo, const Eigen::Vector3f& scale) {
+  const auto spread = [](std::uint32_t x) {  // bit i of x to bit 3i
+    x &= 0x3ffu;
+    x = (x | (x << 16)) & 0x30000ffu;
+    x = (x | (x << 8)) & 0x300f00fu;
+    x = (x | (x << 4)) & 0x30c30c3u;
+    return (x | (x << 2)) & 0x9249249u;
+  };
+  const Eigen::Vector3f q = ((p - lo).cwiseProduct(scale) * 1023.0f).cwiseMax(0.0f).cwiseMin(1023.0f);
+  return spread(static_cast<std::uint32_t>(q.x())) | (spread(static_cast<std::uint32_t>(q.y())) << 1) |
+         (spread(static_cast<std::uint32_t>(q.z())) << 2);
+}
+
+/// Where the new faces go: each into the slot of the removed face next to it in Morton order of
+/// the centroids when that slot is still free, else appended in that face's BVH leaf; so the BVH
+/// boxes barely grow.
+struct SlotPlan {
+  std::vector<int> slot;       ///< per new face: the removed face whose slot it takes, or −1
+  std::vector<int> near;       ///< per appended new face: the removed face it goes next to
+  std::vector<int> left_over;  ///< removed faces whose slots no new face takes, sorted
+};
+
+SlotPlan plan_slots(const mesh::Mesh& m, const RowMatrixXf<3>& placed, const std::vector<int>& removed,
+                    const std::vector<std::array<int, 3>>& faces) {
+  const auto centroid = [&](const std::array<int, 3>& t) {
+    return Eigen::Vector3f((placed.row(t[0]) + placed.row(t[1]) + placed.row(t[2])).transpose() / 3.0f);
+  };
+  std::vector<Eigen::Vector3f> old_at(removed.size()), new_at(faces.size());
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  for (std::size_t r = 0; r < removed.size(); ++r) {
+    old_at[r] = centroid({m.faces(removed[r], 0), m.faces(removed[r], 1), m.faces(removed[r], 2)});
+    lo = lo.cwiseMin(old_at[r]);
+    hi = hi.cwiseMax(old_at[r]);
+  }
+  for (std::size_t t = 0; t < faces.size(); ++t) {
+    new_at[t] = centroid(faces[t]);
+    lo = lo.cwiseMin(new_at[t]);
+    hi = hi.cwiseMax(new_at[t]);
+  }
+  const Eigen::Vector3f scale = (hi - lo).cwiseMax(1e-30f).cwiseInverse();
+  const auto by_code = [&](const std::vector<Eigen::Vector3f>& at) {
+    std::vector<std::pair<std::uint32_t, int>> order(at.size());
+    for (std::size_t i = 0; i < at.size(); ++i) order[i] = {morton(at[i], lo, scale), static_cast<int>(i)};
+    std::sort(order.begin(), order.end());
+    return order;
+  };
+  const auto old_order = by_code(old_at), new_order = by_code(new_at);
+  SlotPlan plan;
+  plan.slot.assign(faces.size(), -1);
+  plan.near.assign(faces.size(), removed.empty() ? 0 : removed.front());
+  std::vector<char> taken(removed.size(), 0);
+  for (std::size_t j = 0; j < new_order.size() && !removed.empty(); ++j) {
+    const std::size_t rank = j * removed.size() / new_order.size();
+    const auto r = static_cast<std::size_t>(old_order[rank].second);
+    const auto t = static_cast<std::size_t>(new_order[j].second);
+    if (taken[r] == 0) {
+      taken[r] = 1;
+      plan.slot[t] = removed[r];
+    } else {
+      plan.near[t] = removed[r];
+    }
+  }
+  for (std::size_t r = 0; r < removed.size(); ++r)
+    if (taken[r] == 0) plan.left_over.push_back(removed[r]);
+  return plan;
+}
 
 }  // namespace
 
@@ -200,20 +271,26 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   std::sort(open_entries.begin(), open_entries.end());  // a face next to a removed one twice
   open_entries.erase(std::unique(open_entries.begin(), open_entries.end()), open_entries.end());
 
-  // Faces: new ones into the removed slots, then appended, or the slots left over filled by the
-  // last faces (largest slot first, so a face moved is never one still to be removed).
+  // Faces: each new one into the slot of a removed face near it, or appended next to it; the
+  // slots left over are filled by the last faces (largest slot first, so a face moved is never
+  // one still to be removed).
   std::vector<std::array<int, 3>> faces(edit.new_faces);
   for (auto& t : faces)
     for (int& x : t) x = out.vertex_of(x);
+  const SlotPlan plan = plan_slots(m, placed, removed, faces);
   FaceSlots slots(m, placed, index);
-  const std::size_t reused = std::min(removed.size(), faces.size());
   std::vector<int>& ids = out.change.new_faces;
-  for (std::size_t k = 0; k < reused; ++k) {
-    slots.put(removed[k], faces[k]);
-    ids.push_back(removed[k]);
+  ids.assign(faces.size(), -1);
+  slots.reserve_more(static_cast<int>(faces.size()) - static_cast<int>(removed.size() - plan.left_over.size()));
+  for (std::size_t t = 0; t < faces.size(); ++t) {
+    if (plan.slot[t] >= 0) {
+      slots.put(plan.slot[t], faces[t]);
+      ids[t] = plan.slot[t];
+    } else {
+      ids[t] = slots.append(faces[t], plan.near[t]);
+    }
   }
-  slots.append(faces, reused, removed, ids);
-  for (std::size_t k = removed.size(); k-- > reused;) slots.erase(removed[k]);
+  for (auto it = plan.left_over.rbegin(); it != plan.left_over.rend(); ++it) slots.erase(*it);
   slots.shrink();
   const std::unordered_map<int, int> current = slots.current_of();
   const auto now = [&](int f) {
