@@ -1,6 +1,7 @@
 #include "cgamesh/mesh/vertex_source.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 #include <utility>
 
@@ -9,22 +10,26 @@
 namespace cgamesh::mesh {
 namespace {
 
-/// Row r of the new attribute: the blend of the old rows (a plain copy for a copy).
-template <class Matrix>
-void blend_rows(const Matrix& src, std::span<const VertexSource> sources, Matrix& dst, bool unit) {
-  if (src.rows() == 0) return;
-  dst.resize(static_cast<Eigen::Index>(sources.size()), src.cols());
-  for (std::size_t i = 0; i < sources.size(); ++i) {
-    const VertexSource& s = sources[i];
-    auto row = dst.row(static_cast<Eigen::Index>(i));
-    if (s.count() == 1) {
-      row = src.row(s.vertex[0]);
-      continue;
-    }
-    row = s.weight[0] * src.row(s.vertex[0]);
-    for (int k = 1; k < s.count(); ++k) row += s.weight[k] * src.row(s.vertex[k]);
-    if (unit && row.norm() > 0) row.normalize();
+/// Copies row v of an old row-major attribute to row i of the new one. Raw pointers, so that
+/// they stay in registers across the calls of a loop (an Eigen matrix's would be reloaded).
+template <class T, int Cols>
+struct CopyRows {
+  const T* from;
+  T* to;
+  void operator()(int v, Eigen::Index i) const {
+    // memcpy of a constant size is inlined; std::copy_n becomes a call of memmove.
+    std::memcpy(to + Cols * i, from + Cols * static_cast<Eigen::Index>(v), sizeof(T) * Cols);
   }
+};
+
+/// Row i of the new attribute `dst`: the blend of the old rows of `src` that `s` (not a
+/// copy) names, renormalised if `unit`.
+template <class Matrix>
+void blend_row(const Matrix& src, const VertexSource& s, Matrix& dst, Eigen::Index i, bool unit) {
+  auto row = dst.row(i);
+  row = s.weight[0] * src.row(s.vertex[0]);
+  for (int k = 1; k < s.count(); ++k) row += s.weight[k] * src.row(s.vertex[k]);
+  if (unit && row.norm() > 0) row.normalize();
 }
 
 }  // namespace
@@ -72,30 +77,55 @@ Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
         throw InvalidInputError("resample: new vertex " + std::to_string(i) + " refers to vertex " +
                                 std::to_string(sources[i].vertex[static_cast<std::size_t>(k)]) + " of a mesh with " +
                                 std::to_string(nv));
-  if (faces.size() > 0 && (faces.minCoeff() < 0 || faces.maxCoeff() >= static_cast<int>(sources.size())))
+  // One unsigned comparison per index (a negative one wraps above any count), with no early exit
+  // so that it vectorises.
+  const auto count = static_cast<std::uint32_t>(sources.size());
+  std::uint32_t outside = 0;
+  for (const int x : std::span(faces.data(), static_cast<std::size_t>(faces.size())))
+    outside |= static_cast<std::uint32_t>(x) >= count ? 1u : 0u;
+  if (outside != 0)
     throw InvalidInputError("resample: a face refers to a vertex outside the " + std::to_string(sources.size()) +
                             " new vertices");
   Mesh out;
   out.name = old.name;
   out.node = old.node;
   out.faces = faces;
-  blend_rows(old.positions, sources, out.positions, false);
-  blend_rows(old.normals, sources, out.normals, true);
-  blend_rows(old.uvs, sources, out.uvs, false);
-  if (!old.skin.empty()) {
+  // Attributes the old mesh lacks (0 rows) stay empty.
+  const auto n = static_cast<Eigen::Index>(sources.size());
+  const bool has_normals = old.normals.rows() > 0, has_uvs = old.uvs.rows() > 0, has_skin = !old.skin.empty();
+  out.positions.resize(n, 3);
+  if (has_normals) out.normals.resize(n, 3);
+  if (has_uvs) out.uvs.resize(n, 2);
+  if (has_skin) {
     out.skin.palette = old.skin.palette;
     out.skin.inverse_bind = old.skin.inverse_bind;
     out.skin.inverse_bind_versors = old.skin.inverse_bind_versors;
-    const auto n = static_cast<Eigen::Index>(sources.size());
     out.skin.joints.resize(n, 4);
     out.skin.weights.resize(n, 4);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const VertexSource& s = sources[static_cast<std::size_t>(i)];
-      if (s.count() == 1 && (s.influence_mask & 1u) != 0) {
-        out.skin.joints.row(i) = old.skin.joints.row(s.vertex[0]);
-        out.skin.weights.row(i) = old.skin.weights.row(s.vertex[0]);
-        continue;
-      }
+  }
+  // One pass over the sources for all attributes: most new vertices are copies.
+  const CopyRows<float, 3> positions{old.positions.data(), out.positions.data()},
+      normals{old.normals.data(), out.normals.data()};
+  const CopyRows<float, 2> uvs{old.uvs.data(), out.uvs.data()};
+  const CopyRows<std::uint16_t, 4> joints{old.skin.joints.data(), out.skin.joints.data()};
+  const CopyRows<float, 4> weights{old.skin.weights.data(), out.skin.weights.data()};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const VertexSource& s = sources[static_cast<std::size_t>(i)];
+    if (s.count() == 1) {
+      const int v = s.vertex[0];
+      positions(v, i);
+      if (has_normals) normals(v, i);
+      if (has_uvs) uvs(v, i);
+    } else {
+      blend_row(old.positions, s, out.positions, i, false);
+      if (has_normals) blend_row(old.normals, s, out.normals, i, true);
+      if (has_uvs) blend_row(old.uvs, s, out.uvs, i, false);
+    }
+    if (!has_skin) continue;
+    if (s.count() == 1 && (s.influence_mask & 1u) != 0) {
+      joints(s.vertex[0], i);
+      weights(s.vertex[0], i);
+    } else {
       blend_influences(old.skin, s, std::span<std::uint16_t, 4>(out.skin.joints.row(i).data(), 4),
                        std::span<float, 4>(out.skin.weights.row(i).data(), 4));
     }

@@ -1,7 +1,12 @@
 #include "cgamesh/surgery/cut.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -27,6 +32,60 @@ struct EdgePoint {
   float t;
 };
 
+/// Whether every coordinate is finite: one pass over the exponent bits, with no early exit so
+/// that it vectorises (Eigen's allFinite() tests a coefficient at a time).
+bool all_finite(const RowMatrixXf<3>& m) {
+  constexpr std::uint32_t exponent = 0x7f800000u;  // all ones: inf or NaN
+  std::uint32_t non_finite = 0;
+  for (const float x : std::span(m.data(), static_cast<std::size_t>(m.size())))
+    non_finite |= static_cast<std::uint32_t>((std::bit_cast<std::uint32_t>(x) & exponent) == exponent);
+  return non_finite == 0;
+}
+
+/// Edge key -> extended id of its crossing: open addressing with linear probing, as a cut
+/// crosses few edges and std::unordered_map would allocate a node for each.
+class CrossingMap {
+ public:
+  /// The id stored for `key`, storing `id` first when there is none; whether it was stored.
+  std::pair<int, bool> try_emplace(std::uint64_t key, int id) {
+    if (2 * (size_ + 1) > slots_.size()) grow();
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = slot(key);; i = (i + 1) & mask) {
+      Slot& s = slots_[i];
+      if (s.key == key) return {s.id, false};
+      if (s.key == empty) {
+        s = {key, id};
+        ++size_;
+        return {id, true};
+      }
+    }
+  }
+
+ private:
+  static constexpr std::uint64_t empty = ~std::uint64_t{0};  // no edge key: a, b >= 0
+  struct Slot {
+    std::uint64_t key = empty;
+    int id = 0;
+  };
+
+  /// Fibonacci hashing: the top bits of key × 2^64/φ.
+  [[nodiscard]] std::size_t slot(std::uint64_t key) const {
+    return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ull) >> shift_);
+  }
+
+  void grow() {
+    std::vector<Slot> old = std::exchange(slots_, std::vector<Slot>(std::max<std::size_t>(64, 2 * slots_.size())));
+    shift_ = 64 - std::countr_zero(slots_.size());
+    size_ = 0;
+    for (const Slot& s : old)
+      if (s.key != empty) try_emplace(s.key, s.id);
+  }
+
+  std::vector<Slot> slots_;
+  std::size_t size_ = 0;
+  int shift_ = 64;
+};
+
 class Cutter {
  public:
   /// A cut of the whole mesh: every vertex is classified up front.
@@ -36,7 +95,7 @@ class Cutter {
     if (placed.rows() != mesh.vertex_count())
       throw InvalidInputError("cut: mesh '" + mesh.name + "' has " + std::to_string(nv_) + " vertices but " +
                               std::to_string(placed.rows()) + " placed positions");
-    if (!placed.allFinite()) throw InvalidInputError("cut: the placed positions of mesh '" + mesh.name + "' hold NaN");
+    if (!all_finite(placed)) throw InvalidInputError("cut: the placed positions of mesh '" + mesh.name + "' hold NaN");
     classify();
   }
 
@@ -52,11 +111,25 @@ class Cutter {
   }
 
   MeshCut run() {
-    for (Eigen::Index f = 0; f < mesh_.face_count(); ++f) split_face(f);
+    const Eigen::Index nf = mesh_.face_count();
+    for (auto& f : faces_) f.reserve(static_cast<std::size_t>(nf));
+    // Most faces lie on one side: sort them here, leaving the others to split_face.
+    const int* corner = mesh_.faces.data();
+    const signed char* side = side_.data();
+    for (Eigen::Index f = 0; f < nf; ++f, corner += 3) {
+      const int a = corner[0], b = corner[1], c = corner[2];
+      const int sa = side[a], sb = side[b], sc = side[c];
+      if (sa > 0 && sb > 0 && sc > 0) faces_[0].push_back({a, b, c});
+      else if (sa < 0 && sb < 0 && sc < 0) faces_[1].push_back({a, b, c});
+      else split_face(f);
+    }
     MeshCut out;
     out.intersection_points = static_cast<int>(points_.size());
     out.faces_split = faces_split_;
-    for (int p = 0; p < 2; ++p) build_piece(p, out);
+    // One remap (extended vertex -> piece vertex, or -1) serves both pieces: build_piece resets
+    // the entries it sets.
+    std::vector<int> remap(static_cast<std::size_t>(nv_) + points_.size(), -1);
+    for (int p = 0; p < 2; ++p) build_piece(p, remap, out);
     return out;
   }
 
@@ -100,14 +173,22 @@ class Cutter {
   }
 
  private:
-  /// Signed distances X·Π (or n·x − d) and sides, snapped to 0 within the tolerance.
+  /// The side of every vertex, with the snapping tolerance a fraction of the bounding-box
+  /// diagonal. The distances are not kept: the few crossings recompute theirs.
   void classify() {
-    distance_ = signed_distances(placed_, normal_, offset_, plane_, options_.predicates);
-    tolerance_ = options_.snap * bounding_diagonal(placed_);
-    side_.resize(distance_.size());
-    for (std::size_t i = 0; i < distance_.size(); ++i) {
-      side_[i] = distance_[i] > tolerance_ ? 1 : distance_[i] < -tolerance_ ? -1 : 0;
-      if (side_[i] == 0) distance_[i] = 0;
+    const double tolerance = options_.snap * bounding_diagonal(placed_);
+    tolerance_ = tolerance;
+    side_.resize(static_cast<std::size_t>(nv_));
+    // Locals, as classified() computes them: the signed char stores could alias the members.
+    signed char* side = side_.data();
+    const float* x = placed_.data();
+    const Eigen::Vector3d n = normal_;
+    const double d = offset_;
+    const cga::Vector<double> plane = plane_;
+    const Predicates predicates = options_.predicates;
+    for (int v = 0; v < nv_; ++v, x += 3) {
+      const double s = signed_distance(Eigen::Vector3f(x[0], x[1], x[2]).cast<double>(), n, d, plane, predicates);
+      side[v] = static_cast<signed char>(s > tolerance ? 1 : s < -tolerance ? -1 : 0);
     }
   }
 
@@ -118,9 +199,7 @@ class Cutter {
     const int s = x > tolerance_ ? 1 : x < -tolerance_ ? -1 : 0;
     return {s == 0 ? 0.0 : x, s};
   }
-  [[nodiscard]] double distance(int v) const {
-    return side_.empty() ? classified(v).first : distance_[static_cast<std::size_t>(v)];
-  }
+  [[nodiscard]] double distance(int v) const { return classified(v).first; }
   [[nodiscard]] int side(int v) const { return side_.empty() ? classified(v).second : side_[static_cast<std::size_t>(v)]; }
   [[nodiscard]] static int piece_of(int side) { return side > 0 ? 0 : 1; }
 
@@ -128,12 +207,12 @@ class Cutter {
   /// of the edge: t = (A·Π) / (A·Π − B·Π), the meet of the line AB with Π.
   int crossing(int a, int b) {
     if (a > b) std::swap(a, b);
-    const auto [it, added] = point_of_edge_.try_emplace(edge_key(a, b), nv_ + static_cast<int>(points_.size()));
+    const auto [id, added] = point_of_edge_.try_emplace(edge_key(a, b), nv_ + static_cast<int>(points_.size()));
     if (added) {
       const double da = distance(a), db = distance(b);
       points_.push_back({a, b, static_cast<float>(da / (da - db))});
     }
-    return it->second;
+    return id;
   }
 
   void emit(int piece, int a, int b, int c) { faces_[static_cast<std::size_t>(piece)].push_back({a, b, c}); }
@@ -203,33 +282,44 @@ class Cutter {
     return s;
   }
 
-  void build_piece(int piece, MeshCut& out) {
+  /// `remap` (extended vertex -> piece vertex, all -1) is scratch shared by both pieces, and left so.
+  void build_piece(int piece, std::vector<int>& remap, MeshCut& out) {
     const auto& faces = faces_[static_cast<std::size_t>(piece)];
-    std::vector<int> remap(static_cast<std::size_t>(nv_) + points_.size(), -1);
-    std::vector<int> extended;  // piece vertex -> extended vertex
-    std::vector<VertexSource>& sources = out.origins[static_cast<std::size_t>(piece)];
+    // Piece vertices in order of first use; extended[i] is the extended vertex of piece vertex i.
     MeshFaces piece_faces(static_cast<Eigen::Index>(faces.size()), 3);
-    for (std::size_t f = 0; f < faces.size(); ++f)
-      for (std::size_t k = 0; k < 3; ++k) {
-        int& r = remap[static_cast<std::size_t>(faces[f][k])];
+    std::vector<int> extended(remap.size());
+    int* corner = piece_faces.data();
+    int* const piece_vertex = remap.data();
+    int* const extended_vertex = extended.data();
+    int count = 0;
+    for (const Triangle& t : faces)
+      for (const int x : t) {
+        int& r = piece_vertex[x];
         if (r < 0) {
-          r = static_cast<int>(sources.size());
-          sources.push_back(source(faces[f][k], piece));
-          extended.push_back(faces[f][k]);
+          r = count;
+          extended_vertex[count++] = x;
         }
-        piece_faces(static_cast<Eigen::Index>(f), static_cast<Eigen::Index>(k)) = r;
+        *corner++ = r;
       }
-    std::vector<Eigen::Vector3d> placed;
-    placed.reserve(extended.size());
-    for (int x : extended) placed.push_back(point(x));
-    const int surface_vertices = static_cast<int>(sources.size());
-    if (options_.cap && !faces.empty()) add_cap(piece, extended, sources, placed, piece_faces, out);
+    extended.resize(static_cast<std::size_t>(count));
+    for (const int x : extended) remap[static_cast<std::size_t>(x)] = -1;
+    const int surface_vertices = static_cast<int>(extended.size());
+    if (options_.cap && !faces.empty()) add_cap(piece, extended, piece_faces, out);
+    RowMatrixXf<3>& placed = out.placed[static_cast<std::size_t>(piece)];
+    placed.resize(static_cast<Eigen::Index>(extended.size()), 3);
+    for (std::size_t i = 0; i < extended.size(); ++i) {
+      const int x = extended[i];
+      const auto row = static_cast<Eigen::Index>(i);
+      if (x < nv_) std::memcpy(placed.row(row).data(), placed_.row(x).data(), 3 * sizeof(float));  // as it is
+      else placed.row(row) = point(x).cast<float>().transpose();
+    }
+    std::vector<VertexSource>& sources = out.origins[static_cast<std::size_t>(piece)];
+    sources.reserve(extended.size());
+    for (const int x : extended) sources.push_back(x < nv_ ? VertexSource::copy(x) : source(x, piece));
     mesh::Mesh& m = out.pieces[static_cast<std::size_t>(piece)];
-    m = mesh::resample(mesh_, sources, piece_faces);
+    m = mesh::resample(mesh_, sources, MeshFaces(0, 3));
+    m.faces = std::move(piece_faces);  // valid by construction: moved in, not checked and copied
     if (static_cast<int>(sources.size()) > surface_vertices) set_cap_normals(m, surface_vertices);
-    RowMatrixXf<3>& p = out.placed[static_cast<std::size_t>(piece)];
-    p.resize(static_cast<Eigen::Index>(placed.size()), 3);
-    for (std::size_t i = 0; i < placed.size(); ++i) p.row(static_cast<Eigen::Index>(i)) = placed[i].cast<float>().transpose();
   }
 
   /// Welded identity of an extended vertex: seam copies share it.
@@ -243,9 +333,9 @@ class Cutter {
   }
 
   /// Triangulates the closed cross-section loops bounding this piece in the plane and appends
-  /// the cap: its own copies of the loop vertices (so the cap has its own normals).
-  void add_cap(int piece, const std::vector<int>& extended, std::vector<VertexSource>& sources,
-               std::vector<Eigen::Vector3d>& placed, MeshFaces& faces, MeshCut& out) {
+  /// the cap: its own copies of the loop vertices (so the cap has its own normals), appended to
+  /// `extended` as further piece vertices.
+  void add_cap(int piece, std::vector<int>& extended, MeshFaces& faces, MeshCut& out) {
     const auto on_plane = [&](int x) { return x >= nv_ || side(x) == 0; };
     // Directed edges between on-plane vertices, by welded id; a boundary edge has no twin.
     std::unordered_map<std::uint64_t, int> count;
@@ -284,7 +374,7 @@ class Cutter {
     const auto local_index = [&](int w) {
       const auto [it, added] = local.try_emplace(w, static_cast<int>(pts.size()));
       if (added) {
-        const Eigen::Vector3d x = placed[static_cast<std::size_t>(representative.at(w))];
+        const Eigen::Vector3d x = point(extended[static_cast<std::size_t>(representative.at(w))]);
         pts.emplace_back(x.dot(eu), x.dot(ev));
         welded.push_back(w);
       }
@@ -302,10 +392,9 @@ class Cutter {
     // Cap vertices: copies of the loop vertices.
     std::vector<int> cap_vertex(pts.size());
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      const int rep = representative.at(welded[i]);
-      cap_vertex[i] = static_cast<int>(sources.size());
-      sources.push_back(sources[static_cast<std::size_t>(rep)]);
-      placed.push_back(placed[static_cast<std::size_t>(rep)]);
+      const int x = extended[static_cast<std::size_t>(representative.at(welded[i]))];
+      cap_vertex[i] = static_cast<int>(extended.size());
+      extended.push_back(x);
     }
     // Counter-clockwise in (e_u, e_v) faces +n: right for piece B, reversed for piece A.
     const Eigen::Index first = faces.rows();
@@ -343,10 +432,9 @@ class Cutter {
   double offset_ = 0;
   cga::Vector<double> plane_;
   double tolerance_ = 0;
-  std::vector<double> distance_;
-  std::vector<int> side_;
+  std::vector<signed char> side_;
   std::vector<EdgePoint> points_;
-  std::unordered_map<std::uint64_t, int> point_of_edge_;
+  CrossingMap point_of_edge_;
   std::array<std::vector<Triangle>, 2> faces_;
   int faces_split_ = 0;
   PositionWelder weld_{mesh_.positions};

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -24,17 +26,32 @@ std::uint64_t directed_key(int a, int b) noexcept {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-std::vector<double> signed_distances(const mesh::RowMatrixXf<3>& placed, const Eigen::Vector3d& n, double d,
-                                     const cga::Vector<double>& plane, Predicates predicates) {
-  std::vector<double> out(static_cast<std::size_t>(placed.rows()));
-  for (Eigen::Index i = 0; i < placed.rows(); ++i)
-    out[static_cast<std::size_t>(i)] = signed_distance(placed.row(i).cast<double>().transpose(), n, d, plane, predicates);
-  return out;
-}
-
+// The coordinates are scanned 12 (4 rows) at a time, which vectorises, then reduced per axis.
 double bounding_diagonal(const mesh::RowMatrixXf<3>& points) {
   if (points.rows() == 0) return 0;
-  return static_cast<double>((points.colwise().maxCoeff() - points.colwise().minCoeff()).norm());
+  const std::span<const float> x(points.data(), static_cast<std::size_t>(points.size()));
+  std::array<float, 12> lo, hi;  // slot k holds axis k % 3
+  for (std::size_t k = 0; k < 12; ++k) lo[k] = hi[k] = x[k % 3];
+  std::size_t i = 0;
+  for (; i + 12 <= x.size(); i += 12)
+    for (std::size_t k = 0; k < 12; ++k) {
+      lo[k] = std::min(lo[k], x[i + k]);
+      hi[k] = std::max(hi[k], x[i + k]);
+    }
+  for (; i < x.size(); ++i) {
+    lo[i % 3] = std::min(lo[i % 3], x[i]);
+    hi[i % 3] = std::max(hi[i % 3], x[i]);
+  }
+  std::array<float, 3> extent;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    float l = lo[axis], h = hi[axis];
+    for (std::size_t k = axis + 3; k < 12; k += 3) {
+      l = std::min(l, lo[k]);
+      h = std::max(h, hi[k]);
+    }
+    extent[axis] = h - l;
+  }
+  return static_cast<double>(std::sqrt((extent[0] * extent[0] + extent[1] * extent[1]) + extent[2] * extent[2]));
 }
 
 std::size_t PositionHash::operator()(const std::array<float, 3>& p) const noexcept {

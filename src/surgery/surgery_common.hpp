@@ -36,11 +36,6 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
   return predicates == Predicates::cga ? cga::scalar_product(cga::up<double>(x), plane) : n.dot(x) - d;
 }
 
-/// Signed distance of every placed vertex from the plane n·x = d: X·Π with X = up(x) and
-/// Π = n + d e∞ (cga), or n·x − d (euclidean).
-[[nodiscard]] std::vector<double> signed_distances(const mesh::RowMatrixXf<3>& placed, const Eigen::Vector3d& n, double d,
-                                                   const cga::Vector<double>& plane, Predicates predicates);
-
 /// Length of the bounding-box diagonal of the rows of `points` (0 when empty).
 [[nodiscard]] double bounding_diagonal(const mesh::RowMatrixXf<3>& points);
 
