@@ -104,7 +104,16 @@ void TriangleBvh::faces_near_plane(const Eigen::Vector3d& n, double d, double to
         const Eigen::Vector3d c = 0.5 * (lo + hi).cast<double>(), h = 0.5 * (hi - lo).cast<double>();
         return std::abs(n.dot(c) - d) <= n.cwiseAbs().dot(h) + tolerance;
       },
-      [&](int f) { out.push_back(f); });
+      [&](int f) {
+        // The face itself, not only its leaf: some corner within the slab, or corners on both sides.
+        double lo = INFINITY, hi = -INFINITY;
+        for (std::size_t k = 0; k < 3; ++k) {
+          const double x = n.dot(corners_[3 * static_cast<std::size_t>(f) + k].cast<double>()) - d;
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
+        }
+        if (lo <= tolerance && hi >= -tolerance) out.push_back(f);
+      });
 }
 
 void TriangleBvh::faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int>& out) const {

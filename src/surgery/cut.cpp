@@ -490,8 +490,10 @@ LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions&
     out.faces_in += static_cast<int>(model.meshes[i].face_count());
     const MeshIndex& index = live.index().meshes[i];
     const double tolerance = options.snap * index.bvh.diagonal();
+    // Twice the snapping tolerance (and a little more when it is 0): the index measures n·x − d
+    // in floats, the predicates X·Π in doubles; no face touching the plane may be missed.
     std::vector<int> near;
-    index.bvh.faces_near_plane(n, d, tolerance, near);
+    index.bvh.faces_near_plane(n, d, 2 * tolerance + 1e-9 * index.bvh.diagonal(), near);
     Cutter(model.meshes[i], live.placement().positions[i], plane, options, tolerance).separate(near, edits[i], pieces[i], out);
     for (const signed char p : pieces[i]) reached[static_cast<std::size_t>(p)] = true;
   }

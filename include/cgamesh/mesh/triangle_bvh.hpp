@@ -38,8 +38,8 @@ class TriangleBvh {
     return nodes_.empty() ? 0.0 : static_cast<double>((nodes_.front().hi - nodes_.front().lo).norm());
   }
 
-  /// Appends to `out` every face whose bounding box meets the slab |n·x − d| ≤ tolerance: all
-  /// faces the plane n·x = d may touch (and a few more).
+  /// Appends to `out` every face that meets the slab |n·x − d| ≤ tolerance (a corner in it, or
+  /// corners on both sides): the faces the plane n·x = d crosses or comes within `tolerance` of.
   void faces_near_plane(const Eigen::Vector3d& n, double d, double tolerance, std::vector<int>& out) const;
   /// Appends to `out` every face whose bounding box meets the box [lo, hi].
   void faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int>& out) const;
