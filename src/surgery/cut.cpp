@@ -486,8 +486,8 @@ LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions&
   std::vector<LocalEdit> edits(model.meshes.size());
   std::vector<std::vector<signed char>> pieces(model.meshes.size());
   std::array<bool, 2> reached{false, false};
+  out.faces_in = face_total(model);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    out.faces_in += static_cast<int>(model.meshes[i].face_count());
     const MeshIndex& index = live.index().meshes[i];
     const double tolerance = options.snap * index.bvh.diagonal();
     // Twice the snapping tolerance (and a little more when it is 0): the index measures n·x − d
@@ -508,7 +508,7 @@ LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions&
     out.changes.push_back(std::move(applied.change));
     out.piece_of_new_face.push_back(std::move(pieces[i]));
   }
-  for (const mesh::Mesh& m : model.meshes) out.faces_out += static_cast<int>(m.face_count());
+  out.faces_out = face_total(model);
   return out;
 }
 

@@ -931,8 +931,8 @@ LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector
   LiveDrill out;
   // Every edit is made before any is applied, so that a throw leaves `live` as it was.
   std::vector<LocalEdit> edits(model.meshes.size());
+  out.faces_in = face_total(model);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    out.faces_in += static_cast<int>(model.meshes[i].face_count());
     if (hits[i].empty()) continue;
     Driller(model.meshes[i], live.placement().positions[i], live.index().meshes[i], c, options).run(hits[i], edits[i], out);
     out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
@@ -944,7 +944,7 @@ LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector
     if (model.meshes[i].face_count() == 0) out.warnings.push_back("mesh '" + model.meshes[i].name + "' is drilled away entirely");
     out.changes.push_back(std::move(applied.change));
   }
-  for (const mesh::Mesh& m : model.meshes) out.faces_out += static_cast<int>(m.face_count());
+  out.faces_out = face_total(model);
   return out;
 }
 

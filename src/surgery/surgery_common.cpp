@@ -79,6 +79,12 @@ Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& n) {
   return n.cross(axis).normalized();
 }
 
+int face_total(const anim::RiggedModel& model) {
+  int n = 0;
+  for (const mesh::Mesh& m : model.meshes) n += static_cast<int>(m.face_count());
+  return n;
+}
+
 void copy_rig(const anim::RiggedModel& model, anim::RiggedModel& out) {
   out.skeleton = model.skeleton;
   out.clips = model.clips;

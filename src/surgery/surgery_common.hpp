@@ -135,6 +135,9 @@ struct AppliedEdit {
 [[nodiscard]] AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit,
                                               const std::function<void(const AppliedEdit&)>& adjust = {});
 
+/// Faces of all meshes of `model`.
+[[nodiscard]] int face_total(const anim::RiggedModel& model);
+
 /// Sets everything of `out` but its meshes (skeleton, clips, load warnings) from `model`: the
 /// parts surgery hands on unchanged.
 void copy_rig(const anim::RiggedModel& model, anim::RiggedModel& out);

@@ -684,12 +684,6 @@ auto trace_tear(const anim::RiggedModel& model, const Placement& placement, cons
   return finish(tearer, tm, path);
 }
 
-int face_total(const anim::RiggedModel& model) {
-  int n = 0;
-  for (const mesh::Mesh& m : model.meshes) n += static_cast<int>(m.face_count());
-  return n;
-}
-
 /// The statistics both forms report, but faces_out and new_vertices.
 void record(TearStats& out, const anim::RiggedModel& model, const std::vector<PathPoint>& path, int faces_split) {
   for (const PathPoint& p : path) out.path.push_back(p.x);
