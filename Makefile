@@ -30,7 +30,7 @@ demo: build
 bench: deps
 	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BENCH_BUILD) -j $(JOBS) --target cgamesh_bench
-	$(BENCH_BUILD)/bench/cgamesh_bench --benchmark_min_time=0.2 --benchmark_out=$(BENCH_BUILD)/bench.json --benchmark_out_format=json
+	$(BENCH_BUILD)/bench/cgamesh_bench --benchmark_min_time=0.2 --benchmark_repetitions=5 --benchmark_report_aggregates_only=true --benchmark_out=$(BENCH_BUILD)/bench.json --benchmark_out_format=json
 	python3 scripts/bench_table.py $(BENCH_BUILD)/bench.json
 
 format:

@@ -10,7 +10,9 @@ MODES = {"0": "cga", "1": "versor", "2": "matrix", "3": "dqs"}
 
 def main(path):
     data = json.load(open(path))
-    rows = {b["name"]: b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration"}
+    # Medians when the benchmarks were repeated (--benchmark_repetitions), else the single runs.
+    medians = {b["run_name"]: b for b in data["benchmarks"] if b.get("aggregate_name") == "median"}
+    rows = medians or {b["name"]: b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration"}
     ctx = data["context"]
     print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, "
           f"{ctx.get('date')}, library build {ctx.get('library_build_type')}\n")
@@ -56,8 +58,8 @@ def surgery(rows):
         for model in ("CesiumMan", "Ogre", "Million"):
             ga = rows.get(f"BM_{op}{model}/0/0" if op == "Cut" else f"BM_{op}{model}/0")
             eu = rows.get(f"BM_{op}{model}/1/0" if op == "Cut" else f"BM_{op}{model}/1")
-            live_ga = rows.get(f"BM_{op}InPlace{model}/0")
-            live_eu = rows.get(f"BM_{op}InPlace{model}/1")
+            live_ga = rows.get(f"BM_{op}InPlace{model}/0/manual_time")
+            live_eu = rows.get(f"BM_{op}InPlace{model}/1/manual_time")
             if not ga or not eu or ga.get("error_occurred") or not live_ga or not live_eu:
                 continue
             seed = (f"{SEED_MS[op] / ms(ga):,.0f}×, {SEED_MS[op] / ms(live_ga):,.0f}×" if model == "CesiumMan" else "")

@@ -26,6 +26,8 @@ TriangleBvh::TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces) {
   order_.resize(static_cast<std::size_t>(nf));
   leaf_of_.resize(static_cast<std::size_t>(nf));
   slot_of_.resize(static_cast<std::size_t>(nf));
+  next_appended_.assign(static_cast<std::size_t>(nf), -1);
+  previous_appended_.assign(static_cast<std::size_t>(nf), -1);
   for (Eigen::Index f = 0; f < nf; ++f) {
     const auto fi = static_cast<std::size_t>(f);
     for (int k = 0; k < 3; ++k) corners_[3 * fi + static_cast<std::size_t>(k)] = positions.row(faces(f, k)).transpose();
@@ -35,6 +37,7 @@ TriangleBvh::TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces) {
   nodes_.reserve(static_cast<std::size_t>(2 * nf / kLeafSize + 1));
   parent_.reserve(nodes_.capacity());
   if (nf > 0) build(0, static_cast<int>(nf), -1, centroids);
+  first_appended_.assign(nodes_.size(), -1);
 }
 
 int TriangleBvh::build(int begin, int end, int parent, std::vector<Eigen::Vector3f>& centroids) {
@@ -88,9 +91,9 @@ void TriangleBvh::traverse(Overlaps&& overlaps, Visit&& visit) const {
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i)
         if (const int f = order_[static_cast<std::size_t>(i)]; f >= 0) visit(f);
-      if (!appended_.empty())
-        if (const auto it = appended_.find(static_cast<int>(&node - nodes_.data())); it != appended_.end())
-          for (const int f : it->second) visit(f);
+      for (int f = first_appended_[static_cast<std::size_t>(&node - nodes_.data())]; f >= 0;
+           f = next_appended_[static_cast<std::size_t>(f)])
+        visit(f);
     } else {
       stack[top++] = node.first;
       stack[top++] = static_cast<int>(&node - nodes_.data()) + 1;
@@ -187,6 +190,8 @@ void TriangleBvh::reserve(int faces) {
   corners_.reserve(3 * n);
   leaf_of_.reserve(n);
   slot_of_.reserve(n);
+  next_appended_.reserve(n);
+  previous_appended_.reserve(n);
 }
 
 void TriangleBvh::replace(int f, const std::array<Eigen::Vector3f, 3>& corners) {
@@ -200,41 +205,52 @@ void TriangleBvh::append(const std::array<Eigen::Vector3f, 3>& corners, int near
   const int f = face_count(), leaf = leaf_of_[static_cast<std::size_t>(near)];
   corners_.resize(corners_.size() + 3);
   set_corners(f, corners);
-  std::vector<int>& list = appended_[leaf];
   leaf_of_.push_back(leaf);
-  slot_of_.push_back(-1 - static_cast<int>(list.size()));
-  list.push_back(f);
+  slot_of_.push_back(-1);
+  // At the front of the leaf's list.
+  int& first = first_appended_[static_cast<std::size_t>(leaf)];
+  next_appended_.push_back(first);
+  previous_appended_.push_back(-1);
+  if (first >= 0) previous_appended_[static_cast<std::size_t>(first)] = f;
+  first = f;
   grow(leaf, corners);
+}
+
+void TriangleBvh::link_appended(int f, int previous, int next) {
+  if (previous >= 0) next_appended_[static_cast<std::size_t>(previous)] = f;
+  else first_appended_[static_cast<std::size_t>(leaf_of_[static_cast<std::size_t>(f)])] = f;
+  if (next >= 0) previous_appended_[static_cast<std::size_t>(next)] = f;
 }
 
 void TriangleBvh::erase(int f) {
   if (f < 0 || f >= face_count()) throw InvalidInputError("TriangleBvh: no face " + std::to_string(f) + " to erase");
   const auto fi = static_cast<std::size_t>(f);
-  const int leaf = leaf_of_[fi];
   // Take f out of its leaf (whose box stays: larger than needed, never too small).
   if (const int slot = slot_of_[fi]; slot >= 0) {
     order_[static_cast<std::size_t>(slot)] = -1;
   } else {
-    std::vector<int>& list = appended_[leaf];
-    const auto i = static_cast<std::size_t>(-1 - slot);
-    list[i] = list.back();
-    slot_of_[static_cast<std::size_t>(list[i])] = slot;
-    list.pop_back();
+    const int previous = previous_appended_[fi], next = next_appended_[fi];
+    if (previous >= 0) next_appended_[static_cast<std::size_t>(previous)] = next;
+    else first_appended_[static_cast<std::size_t>(leaf_of_[fi])] = next;
+    if (next >= 0) previous_appended_[static_cast<std::size_t>(next)] = previous;
   }
   // The last face takes id f.
   const int last = face_count() - 1;
   if (f != last) {
     const auto li = static_cast<std::size_t>(last);
-    const int slot = slot_of_[li];
-    if (slot >= 0) order_[static_cast<std::size_t>(slot)] = f;
-    else appended_[leaf_of_[li]][static_cast<std::size_t>(-1 - slot)] = f;
     leaf_of_[fi] = leaf_of_[li];
-    slot_of_[fi] = slot;
+    slot_of_[fi] = slot_of_[li];
+    next_appended_[fi] = next_appended_[li];
+    previous_appended_[fi] = previous_appended_[li];
+    if (slot_of_[fi] >= 0) order_[static_cast<std::size_t>(slot_of_[fi])] = f;
+    else link_appended(f, previous_appended_[fi], next_appended_[fi]);
     for (std::size_t k = 0; k < 3; ++k) corners_[3 * fi + k] = corners_[3 * li + k];
   }
   corners_.resize(corners_.size() - 3);
   leaf_of_.pop_back();
   slot_of_.pop_back();
+  next_appended_.pop_back();
+  previous_appended_.pop_back();
 }
 
 }  // namespace cgamesh::mesh

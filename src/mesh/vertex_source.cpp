@@ -68,49 +68,31 @@ void blend_influences(const Skin& skin, const VertexSource& source, std::span<st
   }
 }
 
-Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
-              const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces) {
-  const Eigen::Index nv = old.vertex_count();
+namespace {
+
+/// @throws InvalidInputError when a source names a vertex outside the old mesh's `nv`.
+void check_sources(std::span<const VertexSource> sources, Eigen::Index nv) {
   for (std::size_t i = 0; i < sources.size(); ++i)
     for (int k = 0; k < sources[i].count(); ++k)
       if (sources[i].vertex[static_cast<std::size_t>(k)] < 0 || sources[i].vertex[static_cast<std::size_t>(k)] >= nv)
         throw InvalidInputError("resample: new vertex " + std::to_string(i) + " refers to vertex " +
                                 std::to_string(sources[i].vertex[static_cast<std::size_t>(k)]) + " of a mesh with " +
                                 std::to_string(nv));
-  // One unsigned comparison per index (a negative one wraps above any count), with no early exit
-  // so that it vectorises.
-  const auto count = static_cast<std::uint32_t>(sources.size());
-  std::uint32_t outside = 0;
-  for (const int x : std::span(faces.data(), static_cast<std::size_t>(faces.size())))
-    outside |= static_cast<std::uint32_t>(x) >= count ? 1u : 0u;
-  if (outside != 0)
-    throw InvalidInputError("resample: a face refers to a vertex outside the " + std::to_string(sources.size()) +
-                            " new vertices");
-  Mesh out;
-  out.name = old.name;
-  out.node = old.node;
-  out.faces = faces;
-  // Attributes the old mesh lacks (0 rows) stay empty.
-  const auto n = static_cast<Eigen::Index>(sources.size());
+}
+
+/// Rows first … first + #sources − 1 of `out`'s attributes (sized already): the blends of
+/// `old`'s rows. `out` may be `old` itself, grown, as long as the sources lie before `first`.
+void blend_rows(const Mesh& old, std::span<const VertexSource> sources, Mesh& out, Eigen::Index first) {
   const bool has_normals = old.normals.rows() > 0, has_uvs = old.uvs.rows() > 0, has_skin = !old.skin.empty();
-  out.positions.resize(n, 3);
-  if (has_normals) out.normals.resize(n, 3);
-  if (has_uvs) out.uvs.resize(n, 2);
-  if (has_skin) {
-    out.skin.palette = old.skin.palette;
-    out.skin.inverse_bind = old.skin.inverse_bind;
-    out.skin.inverse_bind_versors = old.skin.inverse_bind_versors;
-    out.skin.joints.resize(n, 4);
-    out.skin.weights.resize(n, 4);
-  }
   // One pass over the sources for all attributes: most new vertices are copies.
   const CopyRows<float, 3> positions{old.positions.data(), out.positions.data()},
       normals{old.normals.data(), out.normals.data()};
   const CopyRows<float, 2> uvs{old.uvs.data(), out.uvs.data()};
   const CopyRows<std::uint16_t, 4> joints{old.skin.joints.data(), out.skin.joints.data()};
   const CopyRows<float, 4> weights{old.skin.weights.data(), out.skin.weights.data()};
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const VertexSource& s = sources[static_cast<std::size_t>(i)];
+  for (std::size_t n = 0; n < sources.size(); ++n) {
+    const VertexSource& s = sources[n];
+    const Eigen::Index i = first + static_cast<Eigen::Index>(n);
     if (s.count() == 1) {
       const int v = s.vertex[0];
       positions(v, i);
@@ -130,7 +112,60 @@ Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
                        std::span<float, 4>(out.skin.weights.row(i).data(), 4));
     }
   }
+}
+
+/// Grows `m` by `n` rows, keeping its rows (an absent attribute, with 0 rows, stays absent).
+template <class Matrix>
+void grow_rows(Matrix& m, Eigen::Index n) {
+  if (m.rows() > 0) m.conservativeResize(m.rows() + n, Eigen::NoChange);
+}
+
+}  // namespace
+
+Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
+              const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces) {
+  check_sources(sources, old.vertex_count());
+  // One unsigned comparison per index (a negative one wraps above any count), with no early exit
+  // so that it vectorises.
+  const auto count = static_cast<std::uint32_t>(sources.size());
+  std::uint32_t outside = 0;
+  for (const int x : std::span(faces.data(), static_cast<std::size_t>(faces.size())))
+    outside |= static_cast<std::uint32_t>(x) >= count ? 1u : 0u;
+  if (outside != 0)
+    throw InvalidInputError("resample: a face refers to a vertex outside the " + std::to_string(sources.size()) +
+                            " new vertices");
+  Mesh out;
+  out.name = old.name;
+  out.node = old.node;
+  out.faces = faces;
+  // Attributes the old mesh lacks (0 rows) stay empty.
+  const auto n = static_cast<Eigen::Index>(sources.size());
+  out.positions.resize(n, 3);
+  if (old.normals.rows() > 0) out.normals.resize(n, 3);
+  if (old.uvs.rows() > 0) out.uvs.resize(n, 2);
+  if (!old.skin.empty()) {
+    out.skin.palette = old.skin.palette;
+    out.skin.inverse_bind = old.skin.inverse_bind;
+    out.skin.inverse_bind_versors = old.skin.inverse_bind_versors;
+    out.skin.joints.resize(n, 4);
+    out.skin.weights.resize(n, 4);
+  }
+  blend_rows(old, sources, out, 0);
   return out;
+}
+
+void append_resampled(Mesh& m, std::span<const VertexSource> sources) {
+  const Eigen::Index first = m.vertex_count(), n = static_cast<Eigen::Index>(sources.size());
+  check_sources(sources, first);
+  if (n == 0) return;
+  grow_rows(m.positions, n);
+  grow_rows(m.normals, n);
+  grow_rows(m.uvs, n);
+  if (!m.skin.empty()) {
+    grow_rows(m.skin.joints, n);
+    grow_rows(m.skin.weights, n);
+  }
+  blend_rows(m, sources, m, first);
 }
 
 }  // namespace cgamesh::mesh

@@ -16,6 +16,7 @@
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/errors.hpp"
+#include "flat_map.hpp"
 #include "polygon_triangulation.hpp"
 #include "surgery_common.hpp"
 
@@ -41,50 +42,6 @@ bool all_finite(const RowMatrixXf<3>& m) {
     non_finite |= static_cast<std::uint32_t>((std::bit_cast<std::uint32_t>(x) & exponent) == exponent);
   return non_finite == 0;
 }
-
-/// Edge key -> extended id of its crossing: open addressing with linear probing, as a cut
-/// crosses few edges and std::unordered_map would allocate a node for each.
-class CrossingMap {
- public:
-  /// The id stored for `key`, storing `id` first when there is none; whether it was stored.
-  std::pair<int, bool> try_emplace(std::uint64_t key, int id) {
-    if (2 * (size_ + 1) > slots_.size()) grow();
-    const std::size_t mask = slots_.size() - 1;
-    for (std::size_t i = slot(key);; i = (i + 1) & mask) {
-      Slot& s = slots_[i];
-      if (s.key == key) return {s.id, false};
-      if (s.key == empty) {
-        s = {key, id};
-        ++size_;
-        return {id, true};
-      }
-    }
-  }
-
- private:
-  static constexpr std::uint64_t empty = ~std::uint64_t{0};  // no edge key: a, b >= 0
-  struct Slot {
-    std::uint64_t key = empty;
-    int id = 0;
-  };
-
-  /// Fibonacci hashing: the top bits of key × 2^64/φ.
-  [[nodiscard]] std::size_t slot(std::uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9e3779b97f4a7c15ull) >> shift_);
-  }
-
-  void grow() {
-    std::vector<Slot> old = std::exchange(slots_, std::vector<Slot>(std::max<std::size_t>(64, 2 * slots_.size())));
-    shift_ = 64 - std::countr_zero(slots_.size());
-    size_ = 0;
-    for (const Slot& s : old)
-      if (s.key != empty) try_emplace(s.key, s.id);
-  }
-
-  std::vector<Slot> slots_;
-  std::size_t size_ = 0;
-  int shift_ = 64;
-};
 
 class Cutter {
  public:
@@ -143,31 +100,35 @@ class Cutter {
       const bool crossed = std::count(s.begin(), s.end(), 1) > 0 && std::count(s.begin(), s.end(), -1) > 0;
       if (!zero && !crossed) continue;
       edit.removed_faces.push_back(f);
+      parent_ = f;
       split_face(f);
     }
     // Old vertices on the plane that piece A keeps: piece B gets copies of them.
-    std::unordered_map<int, int> shared;
+    FlatMap<int> shared;
     for (const Triangle& t : faces_[0])
       for (const int x : t)
-        if (x < nv_) shared.emplace(x, -1);
-    std::unordered_map<std::uint64_t, int> id_of;
+        if (x < nv_ && side(x) == 0) shared.try_emplace(static_cast<std::uint64_t>(x), -1);
+    FlatMap<int> id_of;
     const auto id = [&](int x, int p) {
       if (x < nv_) {
         if (p == 0 || side(x) != 0) return x;
-        const auto it = shared.find(x);
-        if (it == shared.end()) return x;
-        if (it->second < 0) it->second = edit.add_vertex(VertexSource::copy(x), point(x), nv_, -1);
-        return it->second;
+        int* copy = shared.find(static_cast<std::uint64_t>(x));
+        if (copy == nullptr) return x;
+        if (*copy < 0) *copy = edit.add_vertex(VertexSource::copy(x), point(x), nv_, -1);
+        return *copy;
       }
-      const auto [it, added] = id_of.try_emplace(directed_key(x, p), -1);
-      if (added) it->second = edit.add_vertex(source(x, p), point(x), nv_, p == 0 ? 1 : -1);
-      return it->second;
+      const auto [copy, added] = id_of.try_emplace(directed_key(x, p), -1);
+      if (added) *copy = edit.add_vertex(source(x, p), point(x), nv_, p == 0 ? 1 : -1);
+      return *copy;
     };
-    for (int p = 0; p < 2; ++p)
-      for (const Triangle& t : faces_[static_cast<std::size_t>(p)]) {
-        edit.new_faces.push_back({id(t[0], p), id(t[1], p), id(t[2], p)});
+    for (std::size_t p = 0; p < 2; ++p) {
+      for (const Triangle& t : faces_[p]) {
+        const int q = static_cast<int>(p);
+        edit.new_faces.push_back({id(t[0], q), id(t[1], q), id(t[2], q)});
         piece.push_back(static_cast<signed char>(p));
       }
+      edit.new_face_parent.insert(edit.new_face_parent.end(), parents_[p].begin(), parents_[p].end());
+    }
     stats.intersection_points += static_cast<int>(points_.size());
     stats.faces_split += faces_split_;
   }
@@ -212,10 +173,13 @@ class Cutter {
       const double da = distance(a), db = distance(b);
       points_.push_back({a, b, static_cast<float>(da / (da - db))});
     }
-    return id;
+    return *id;
   }
 
-  void emit(int piece, int a, int b, int c) { faces_[static_cast<std::size_t>(piece)].push_back({a, b, c}); }
+  void emit(int piece, int a, int b, int c) {
+    faces_[static_cast<std::size_t>(piece)].push_back({a, b, c});
+    if (side_.empty()) parents_[static_cast<std::size_t>(piece)].push_back(parent_);  // a local cut
+  }
 
   void split_face(Eigen::Index f) {
     const Triangle v{mesh_.faces(f, 0), mesh_.faces(f, 1), mesh_.faces(f, 2)};
@@ -326,10 +290,7 @@ class Cutter {
   int weld_id(int x) {
     if (x < nv_) return weld_(x);
     const EdgePoint& e = points_[static_cast<std::size_t>(x - nv_)];
-    const auto [it, added] = weld_of_edge_.try_emplace(
-        edge_key(weld_(e.a), weld_(e.b)),
-        nv_ + static_cast<int>(weld_of_edge_.size()));
-    return it->second;
+    return *weld_of_edge_.try_emplace(edge_key(weld_(e.a), weld_(e.b)), nv_ + static_cast<int>(weld_of_edge_.size())).first;
   }
 
   /// Triangulates the closed cross-section loops bounding this piece in the plane and appends
@@ -434,11 +395,13 @@ class Cutter {
   double tolerance_ = 0;
   std::vector<signed char> side_;
   std::vector<EdgePoint> points_;
-  CrossingMap point_of_edge_;
+  FlatMap<int> point_of_edge_;
   std::array<std::vector<Triangle>, 2> faces_;
+  std::array<std::vector<int>, 2> parents_;  ///< a local cut's: per face of faces_, the face split
+  int parent_ = -1;                          ///< the face split_face splits (a local cut)
   int faces_split_ = 0;
   PositionWelder weld_{mesh_.positions};
-  std::unordered_map<std::uint64_t, int> weld_of_edge_;
+  FlatMap<int> weld_of_edge_;
 };
 
 }  // namespace

@@ -1,7 +1,6 @@
 #include "cgamesh/surgery/drill.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -18,6 +17,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "convex_triangulation.hpp"
+#include "flat_map.hpp"
 #include "surgery_common.hpp"
 
 namespace cgamesh::surgery {
@@ -26,68 +26,6 @@ namespace {
 using mesh::RowMatrixXf;
 using mesh::VertexSource;
 using Triangle = std::array<int, 3>;
-
-/// An open-addressing (linear probing) hash map from 64-bit keys to small values. The region
-/// holds a few hundred vertices, faces and edges: node-based maps spent most of a drill
-/// allocating nodes and hashing by division. Pointers to values last until the next insertion.
-template <class Value>
-class FlatMap {
- public:
-  /// Room for n entries without rehashing.
-  void reserve(std::size_t n) {
-    if (2 * n > keys_.size()) rehash(std::bit_ceil(2 * n));
-  }
-
-  /// The value of `key`, inserted as `value` when absent, and whether it was inserted.
-  std::pair<Value*, bool> try_emplace(std::uint64_t key, const Value& value) {
-    if (2 * (size_ + 1) > keys_.size()) rehash(std::max<std::size_t>(64, 2 * keys_.size()));
-    const std::size_t i = probe(key);
-    if (keys_[i] == key) return {&values_[i], false};
-    keys_[i] = key;
-    values_[i] = value;
-    ++size_;
-    return {&values_[i], true};
-  }
-
-  [[nodiscard]] Value* find(std::uint64_t key) {
-    if (keys_.empty()) return nullptr;
-    const std::size_t i = probe(key);
-    return keys_[i] == key ? &values_[i] : nullptr;
-  }
-
- private:
-  static constexpr std::uint64_t empty_key = ~std::uint64_t{0};  ///< no edge key nor id is all ones
-
-  /// Fibonacci hashing: the high bits of key · 2⁶⁴/φ.
-  [[nodiscard]] std::size_t home(std::uint64_t key) const {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
-  }
-
-  /// The slot holding `key`, or the empty slot that ends its probe sequence.
-  [[nodiscard]] std::size_t probe(std::uint64_t key) const {
-    std::size_t i = home(key);
-    while (keys_[i] != empty_key && keys_[i] != key) i = (i + 1) & (keys_.size() - 1);
-    return i;
-  }
-
-  /// Moves the entries to `capacity` (a power of two) slots. Keys and values lie apart, so
-  /// that clearing the slots is a fill of the keys only.
-  void rehash(std::size_t capacity) {
-    std::vector<std::uint64_t> old_keys = std::move(keys_);
-    std::vector<Value> old_values = std::move(values_);
-    keys_.assign(capacity, empty_key);
-    values_.resize(capacity);
-    shift_ = 64 - std::countr_zero(capacity);
-    size_ = 0;
-    for (std::size_t i = 0; i < old_keys.size(); ++i)
-      if (old_keys[i] != empty_key) try_emplace(old_keys[i], old_values[i]);
-  }
-
-  std::vector<std::uint64_t> keys_;
-  std::vector<Value> values_;
-  std::size_t size_ = 0;
-  int shift_ = 64;
-};
 
 /// The drill: the axis from B along the unit vector n, the radius, and its CGA objects in the
 /// drill's own frame (origin at B, so that the conformal points of a small region far from the

@@ -45,15 +45,6 @@ namespace {
 
 using mesh::RowMatrixXf;
 
-/// Appends the rows of `rows` to `dst` (nothing when `rows` is empty: an absent attribute).
-template <class Matrix>
-void append_rows(Matrix& dst, const Matrix& rows) {
-  if (rows.rows() == 0) return;
-  const Eigen::Index n = dst.rows();
-  dst.conservativeResize(n + rows.rows(), Eigen::NoChange);
-  dst.bottomRows(rows.rows()) = rows;
-}
-
 /// Welded ids of the new vertices, as SurfaceIndex::build gives them (the first vertex at the same
 /// rest position), but copies for different sides of a separation apart: a copy of an old vertex
 /// at its place for no side welds to it, other new vertices to the first new vertex at the same
@@ -61,12 +52,18 @@ void append_rows(Matrix& dst, const Matrix& rows) {
 /// operations snap them onto it).
 void weld_new_vertices(const mesh::Mesh& m, std::span<const mesh::VertexSource> origins,
                        std::span<const signed char> side, int first, std::vector<int>& weld) {
+  struct SidedPosition {
+    std::array<float, 3> at;
+    signed char side;
+    bool operator==(const SidedPosition&) const = default;
+  };
   struct Hash {
-    std::size_t operator()(const std::pair<std::array<float, 3>, signed char>& k) const noexcept {
-      return PositionHash{}(k.first) ^ static_cast<std::size_t>(k.second + 1);
+    std::size_t operator()(const SidedPosition& k) const noexcept {
+      return PositionHash{}(k.at) ^ static_cast<std::size_t>(k.side + 1);
     }
   };
-  std::unordered_map<std::pair<std::array<float, 3>, signed char>, int, Hash> first_at;
+  FlatMap<int, SidedPosition, Hash> first_at;
+  first_at.reserve(origins.size());
   for (Eigen::Index v = first; v < m.vertex_count(); ++v) {
     const auto i = static_cast<std::size_t>(v - first);
     const mesh::VertexSource& o = origins[i];
@@ -76,7 +73,7 @@ void weld_new_vertices(const mesh::Mesh& m, std::span<const mesh::VertexSource> 
     }
     // +0.0f folds -0.0f into 0.0f, whose bits differ.
     const std::array<float, 3> at{m.positions(v, 0) + 0.0f, m.positions(v, 1) + 0.0f, m.positions(v, 2) + 0.0f};
-    weld.push_back(first_at.try_emplace({at, side[i]}, static_cast<int>(v)).first->second);
+    weld.push_back(*first_at.try_emplace({at, side[i]}, static_cast<int>(v)).first);
   }
 }
 
@@ -167,7 +164,7 @@ std::uint32_t morton(const Eigen::Vector3f& p, const Eigen::Vector3f& lo, const 
          (spread(static_cast<std::uint32_t>(q.z())) << 2);
 }
 
-/// Where the new faces go: each into the slot of the removed face next to it in Morton order of
+/// Where the new faces go, when they have no parents: each into the slot of the removed face next to it in Morton order of
 /// the centroids when that slot is still free, else appended in that face's BVH leaf; so the BVH
 /// boxes barely grow.
 struct SlotPlan {
@@ -221,6 +218,25 @@ SlotPlan plan_slots(const mesh::Mesh& m, const RowMatrixXf<3>& placed, const std
   return plan;
 }
 
+/// Where the new faces go when each lies in a removed face (its parent): the first into its
+/// parent's slot, the others appended in the parent's BVH leaf; the BVH boxes barely grow.
+SlotPlan plan_slots_by_parent(const std::vector<int>& removed, const std::vector<int>& parent) {
+  SlotPlan plan;
+  plan.slot.assign(parent.size(), -1);
+  plan.near = parent;
+  std::vector<char> taken(removed.size(), 0);
+  for (std::size_t t = 0; t < parent.size(); ++t) {
+    const auto r = static_cast<std::size_t>(std::lower_bound(removed.begin(), removed.end(), parent[t]) - removed.begin());
+    if (taken[r] == 0) {
+      taken[r] = 1;
+      plan.slot[t] = removed[r];
+    }
+  }
+  for (std::size_t r = 0; r < removed.size(); ++r)
+    if (taken[r] == 0) plan.left_over.push_back(removed[r]);
+  return plan;
+}
+
 }  // namespace
 
 AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit,
@@ -241,24 +257,17 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   for (const auto& t : edit.new_faces)
     for (const int x : t)
       if (x >= nv) out.fresh[static_cast<std::size_t>(x - nv)] = 0;
-  RowMatrixXf<3> fresh_placed(std::count(out.fresh.begin(), out.fresh.end(), 0), 3);
   std::vector<signed char> fresh_side;
   for (std::size_t k = 0; k < out.fresh.size(); ++k) {
     if (out.fresh[k] < 0) continue;
     out.fresh[k] = nv + static_cast<int>(out.change.origins.size());
-    fresh_placed.row(static_cast<Eigen::Index>(out.change.origins.size())) = edit.new_placed[k].cast<float>().transpose();
     out.change.origins.push_back(edit.new_vertices[k]);
     fresh_side.push_back(edit.new_side.empty() ? 0 : edit.new_side[k]);
   }
-  mesh::Mesh blended = mesh::resample(m, out.change.origins, MeshFaces(0, 3));
-  append_rows(m.positions, blended.positions);
-  append_rows(m.normals, blended.normals);
-  append_rows(m.uvs, blended.uvs);
-  if (!m.skin.empty()) {
-    append_rows(m.skin.joints, blended.skin.joints);
-    append_rows(m.skin.weights, blended.skin.weights);
-  }
-  append_rows(placed, fresh_placed);
+  mesh::append_resampled(m, out.change.origins);
+  placed.conservativeResize(m.vertex_count(), Eigen::NoChange);
+  for (std::size_t k = 0; k < out.fresh.size(); ++k)
+    if (out.fresh[k] >= 0) placed.row(out.fresh[k]) = edit.new_placed[k].cast<float>().transpose();
 
   // Adjacency entries of untouched faces that point into the removed ones: found again below.
   const auto is_removed = [&](int f) { return std::binary_search(removed.begin(), removed.end(), f); };
@@ -277,7 +286,8 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   std::vector<std::array<int, 3>> faces(edit.new_faces);
   for (auto& t : faces)
     for (int& x : t) x = out.vertex_of(x);
-  const SlotPlan plan = plan_slots(m, placed, removed, faces);
+  const SlotPlan plan = edit.new_face_parent.empty() ? plan_slots(m, placed, removed, faces)
+                                                     : plan_slots_by_parent(removed, edit.new_face_parent);
   FaceSlots slots(m, placed, index);
   std::vector<int>& ids = out.change.new_faces;
   ids.assign(faces.size(), -1);

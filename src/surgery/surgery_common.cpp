@@ -64,7 +64,7 @@ std::size_t PositionHash::operator()(const std::array<float, 3>& p) const noexce
 int PositionWelder::operator()(int v) {
   // +0.0f folds -0.0f into 0.0f, whose bits differ.
   const std::array<float, 3> p{positions_(v, 0) + 0.0f, positions_(v, 1) + 0.0f, positions_(v, 2) + 0.0f};
-  return first_.try_emplace(p, v).first->second;
+  return *first_.try_emplace(p, v).first;
 }
 
 std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions) {
@@ -143,6 +143,11 @@ std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& e
   for (const auto& t : edit.new_faces)
     for (int x : t)
       if (x < 0 || x >= total) throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
+  if (!edit.new_face_parent.empty() &&
+      (edit.new_face_parent.size() != edit.new_faces.size() ||
+       !std::all_of(edit.new_face_parent.begin(), edit.new_face_parent.end(),
+                    [&](int f) { return std::binary_search(removed.begin(), removed.end(), f); })))
+    throw InvalidInputError("surgery: a new face's parent is not a removed face");
   if (edit.new_placed.size() != edit.new_vertices.size())
     throw InvalidInputError("surgery: the edit has a placed position for " + std::to_string(edit.new_placed.size()) +
                             " of its " + std::to_string(edit.new_vertices.size()) + " new vertices");

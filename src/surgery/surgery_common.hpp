@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -19,6 +18,7 @@
 #include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
+#include "flat_map.hpp"
 
 namespace cgamesh::surgery {
 
@@ -54,7 +54,7 @@ class PositionWelder {
 
  private:
   const mesh::RowMatrixXf<3>& positions_;
-  std::unordered_map<std::array<float, 3>, int, PositionHash> first_;
+  FlatMap<int, std::array<float, 3>, PositionHash> first_;
 };
 
 /// Per vertex, the welded id of PositionWelder for the whole mesh.
@@ -73,6 +73,9 @@ struct LocalEdit {
   std::vector<signed char> new_side;
   std::vector<int> removed_faces;                ///< old faces dropped (each once)
   std::vector<std::array<int, 3>> new_faces;     ///< over extended ids
+  /// Per new face: the removed face it lies in, when every new face has one (it may fill that
+  /// face's slot in place); empty otherwise.
+  std::vector<int> new_face_parent;
 
   /// Adds a new vertex; returns its extended id.
   int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count,
@@ -94,7 +97,8 @@ struct EditedMesh {
 
 /// The removed faces of `edit`, sorted.
 /// @throws InvalidInputError for a removed face or a new face's vertex out of range, a face
-///         removed twice, or a new vertex without a placed position.
+///         removed twice, a new vertex without a placed position, or a new face's parent that
+///         is not removed.
 [[nodiscard]] std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& edit);
 
 /// The old faces that are not removed, in their order, then the new faces; vertices no face

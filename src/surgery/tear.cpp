@@ -514,9 +514,11 @@ class Tearer {
                             " of mesh '" + mesh_.name + "'");
       }
       edit_.removed_faces.push_back(f);
-      for (const Triangle& t : tris)
+      for (const Triangle& t : tris) {
         edit_.new_faces.push_back({ids[static_cast<std::size_t>(t[0])], ids[static_cast<std::size_t>(t[1])],
                                    ids[static_cast<std::size_t>(t[2])]});
+        edit_.new_face_parent.push_back(f);
+      }
     }
   }
 
@@ -547,6 +549,7 @@ class Tearer {
         if (!removed.insert(g).second) continue;
         edit_.removed_faces.push_back(g);
         edit_.new_faces.push_back({corner(g, 0), corner(g, 1), corner(g, 2)});
+        edit_.new_face_parent.push_back(g);
       }
     }
     std::unordered_map<long long, std::vector<int>> faces_at;

@@ -5,7 +5,6 @@
 
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -71,16 +70,20 @@ class TriangleBvh {
   /// Grows the boxes of `leaf` and its ancestors to hold `corners`.
   void grow(int leaf, const std::array<Eigen::Vector3f, 3>& corners);
   void set_corners(int f, const std::array<Eigen::Vector3f, 3>& corners);
+  /// Points the neighbours of appended face f in its leaf's list (`previous`, `next`) at f.
+  void link_appended(int f, int previous, int next);
 
   std::vector<Node> nodes_;
   std::vector<int> parent_;                ///< per node: its parent, −1 for the root
   std::vector<int> order_;                 ///< face indices in leaf order; −1 for an erased face
   std::vector<Eigen::Vector3f> corners_;   ///< 3 per face, by face index
   std::vector<int> leaf_of_;               ///< per face: the leaf holding it
-  /// per face: its index in order_, or −1 − its index in the leaf's list in appended_
-  std::vector<int> slot_of_;
-  /// Faces added after the build, per leaf (checked after the leaf's faces in order_).
-  std::unordered_map<int, std::vector<int>> appended_;
+  std::vector<int> slot_of_;               ///< per face: its index in order_, or −1 when appended
+  // Faces added after the build: per leaf a doubly linked list (checked after the leaf's faces
+  // in order_), so that appending and erasing allocate nothing.
+  std::vector<int> first_appended_;        ///< per node: its first appended face, or −1
+  std::vector<int> next_appended_;         ///< per face: the next appended face of its leaf, or −1
+  std::vector<int> previous_appended_;     ///< per face: the previous one, or −1 for the first
 };
 
 }  // namespace cgamesh::mesh

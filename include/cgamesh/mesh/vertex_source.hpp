@@ -49,4 +49,11 @@ void blend_influences(const Skin& skin, const VertexSource& source, std::span<st
 [[nodiscard]] Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
                             const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces);
 
+/// Appends to `m` vertices that are blends of its own (as resample() makes them), keeping its
+/// faces: the new vertices of an edit in place, with no copy of the mesh.
+/// @param[in,out] m        mesh; its #V rows are kept and #N rows appended to each attribute
+/// @param[in]     sources  #N where each new vertex comes from (indices into m's #V vertices)
+/// @throws InvalidInputError for a source index out of range, before `m` is changed.
+void append_resampled(Mesh& m, std::span<const VertexSource> sources);
+
 }  // namespace cgamesh::mesh

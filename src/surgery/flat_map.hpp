@@ -1,0 +1,79 @@
+#pragma once
+// Private to surgery: the hash map of the operations' small affected regions.
+
+#include <algorithm>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace cgamesh::surgery {
+
+/// Hash of a 64-bit key (edge keys, ids): the key itself, as FlatMap mixes it.
+struct KeyHash {
+  [[nodiscard]] std::size_t operator()(std::uint64_t key) const noexcept { return static_cast<std::size_t>(key); }
+};
+
+/// An open-addressing (linear probing) hash map of small values. An operation's region holds a
+/// few hundred vertices, faces and edges: node-based maps spent most of a cut or drill
+/// allocating nodes and hashing by division. Pointers to values last until the next insertion.
+/// `Hash` need not mix its bits: Fibonacci hashing (the high bits of h · 2⁶⁴/φ) does.
+template <class Value, class Key = std::uint64_t, class Hash = KeyHash>
+class FlatMap {
+ public:
+  /// Room for n entries without rehashing.
+  void reserve(std::size_t n) {
+    if (2 * n > slots_.size()) rehash(std::bit_ceil(2 * n));
+  }
+
+  /// The value of `key`, inserted as `value` when absent, and whether it was inserted.
+  std::pair<Value*, bool> try_emplace(const Key& key, const Value& value) {
+    if (2 * (size_ + 1) > slots_.size()) rehash(std::max<std::size_t>(64, 2 * slots_.size()));
+    const std::size_t i = probe(key);
+    Slot& s = slots_[i];
+    if (s.used) return {&values_[i], false};
+    s = {key, true};
+    values_[i] = value;
+    ++size_;
+    return {&values_[i], true};
+  }
+
+  [[nodiscard]] Value* find(const Key& key) {
+    if (slots_.empty()) return nullptr;
+    const std::size_t i = probe(key);
+    return slots_[i].used ? &values_[i] : nullptr;
+  }
+
+  [[nodiscard]] std::size_t size() const noexcept { return size_; }
+
+ private:
+  struct Slot {
+    Key key{};
+    bool used = false;
+  };
+
+  /// The slot holding `key`, or the empty slot that ends its probe sequence.
+  [[nodiscard]] std::size_t probe(const Key& key) const {
+    std::size_t i = static_cast<std::size_t>((static_cast<std::uint64_t>(Hash{}(key)) * 0x9E3779B97F4A7C15ULL) >> shift_);
+    while (slots_[i].used && !(slots_[i].key == key)) i = (i + 1) & (slots_.size() - 1);
+    return i;
+  }
+
+  /// Moves the entries to `capacity` (a power of two) slots.
+  void rehash(std::size_t capacity) {
+    std::vector<Slot> old_slots = std::exchange(slots_, std::vector<Slot>(capacity));
+    std::vector<Value> old_values = std::exchange(values_, std::vector<Value>(capacity));
+    shift_ = 64 - std::countr_zero(capacity);
+    size_ = 0;
+    for (std::size_t i = 0; i < old_slots.size(); ++i)
+      if (old_slots[i].used) try_emplace(old_slots[i].key, old_values[i]);
+  }
+
+  std::vector<Slot> slots_;
+  std::vector<Value> values_;
+  std::size_t size_ = 0;
+  int shift_ = 64;
+};
+
+}  // namespace cgamesh::surgery
