@@ -3,6 +3,7 @@
 into the markdown tables of BENCHMARKS.md, with ratios against the baselines run in the same
 binary."""
 import json
+import re
 import sys
 
 MODES = {"0": "cga", "1": "versor", "2": "matrix", "3": "dqs"}
@@ -10,9 +11,10 @@ MODES = {"0": "cga", "1": "versor", "2": "matrix", "3": "dqs"}
 
 def main(path):
     data = json.load(open(path))
-    # Medians when the benchmarks were repeated (--benchmark_repetitions), else the single runs.
-    medians = {b["run_name"]: b for b in data["benchmarks"] if b.get("aggregate_name") == "median"}
-    rows = medians or {b["name"]: b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration"}
+    # The median of a benchmark's repetitions when it was repeated, else its one run.
+    rows = {b["name"]: b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration"}
+    rows.update({re.sub(r"/iterations:\d+|/repeats:\d+", "", b["run_name"]): b
+                 for b in data["benchmarks"] if b.get("aggregate_name") == "median"})
     ctx = data["context"]
     print(f"Machine: {ctx.get('num_cpus')} CPUs at {ctx.get('mhz_per_cpu')} MHz, "
           f"{ctx.get('date')}, library build {ctx.get('library_build_type')}\n")

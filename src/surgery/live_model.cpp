@@ -319,8 +319,8 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   }
   weld_new_vertices(m, out.change.origins, fresh_side, nv, index.weld);
 
-  // Adjacency of the new faces and of the open entries: twins by welded edge. Sorted by the
-  // undirected edge, a manifold edge is a run of two, one in each direction.
+  // Adjacency of the new faces and of the open entries: twins by welded edge. Grouped by the
+  // undirected edge, a manifold edge is a group of two, one in each direction.
   struct Edge {
     std::uint64_t key;  ///< undirected welded edge
     int slot;           ///< 3 face + k
@@ -337,20 +337,21 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   for (const int f : ids)
     for (int k = 0; k < 3; ++k) add_edge(f, k);
   for (const auto& [g, j] : open_entries) add_edge(now(g), j);
-  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) { return x.key < y.key; });
-  const auto set = [&](int slot, int face) {
-    index.neighbor[static_cast<std::size_t>(slot / 3)][static_cast<std::size_t>(slot % 3)] = face;
-  };
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t end = i + 1;
-    while (end < edges.size() && edges[end].key == edges[i].key) ++end;
-    if (end - i == 2 && edges[i].forward != edges[i + 1].forward) {
-      set(edges[i].slot, edges[i + 1].slot / 3);
-      set(edges[i + 1].slot, edges[i].slot / 3);
-    } else {
-      for (std::size_t e = i; e < end; ++e) set(edges[e].slot, -1);
-    }
-    i = end;
+  // Per edge: the first edge of its group; per first edge: the group's size and second edge.
+  FlatMap<int> first_of;
+  first_of.reserve(edges.size());
+  std::vector<int> first(edges.size()), size(edges.size(), 0), second(edges.size(), -1);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const auto g = static_cast<std::size_t>(*first_of.try_emplace(edges[e].key, static_cast<int>(e)).first);
+    first[e] = static_cast<int>(g);
+    if (size[g]++ == 1) second[g] = static_cast<int>(e);
+  }
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const auto g = static_cast<std::size_t>(first[e]);
+    const auto twin = static_cast<std::size_t>(e == g ? second[g] : static_cast<int>(g));
+    const bool manifold = size[g] == 2 && edges[e].forward != edges[twin].forward;
+    index.neighbor[static_cast<std::size_t>(edges[e].slot / 3)][static_cast<std::size_t>(edges[e].slot % 3)] =
+        manifold ? edges[twin].slot / 3 : -1;
   }
   return out;
 }
