@@ -55,7 +55,8 @@ class FlatMap {
 
   /// The slot holding `key`, or the empty slot that ends its probe sequence.
   [[nodiscard]] std::size_t probe(const Key& key) const {
-    std::size_t i = static_cast<std::size_t>((static_cast<std::uint64_t>(Hash{}(key)) * 0x9E3779B97F4A7C15ULL) >> shift_);
+    std::size_t i =
+        static_cast<std::size_t>((static_cast<std::uint64_t>(Hash{}(key)) * 0x9E3779B97F4A7C15ULL) >> shift_);
     while (slots_[i].used && !(slots_[i].key == key)) i = (i + 1) & (slots_.size() - 1);
     return i;
   }

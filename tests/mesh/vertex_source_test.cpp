@@ -2,14 +2,15 @@
 // makes them in a new mesh, with influences that sum to 1.
 #include "cgamesh/mesh/vertex_source.hpp"
 
-#include <gtest/gtest.h>
-
 #include <random>
 #include <vector>
 
-#include "anim/model_fixtures.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
+
+#include "anim/model_fixtures.hpp"
 
 namespace {
 
@@ -25,9 +26,14 @@ std::vector<mesh::VertexSource> random_sources(const mesh::Mesh& m, int n) {
   for (int i = 0; i < n; ++i) {
     const float p = unit(rng), q = (1 - p) * unit(rng);
     switch (i % 3) {
-      case 0: out.push_back(mesh::VertexSource::copy(vertex(rng))); break;
-      case 1: out.push_back(mesh::VertexSource::edge(vertex(rng), vertex(rng), p)); break;
-      default: out.push_back(mesh::VertexSource::face(vertex(rng), vertex(rng), vertex(rng), p, q, 1 - p - q));
+      case 0:
+        out.push_back(mesh::VertexSource::copy(vertex(rng)));
+        break;
+      case 1:
+        out.push_back(mesh::VertexSource::edge(vertex(rng), vertex(rng), p));
+        break;
+      default:
+        out.push_back(mesh::VertexSource::face(vertex(rng), vertex(rng), vertex(rng), p, q, 1 - p - q));
     }
     if (i % 5 == 0) out.back().influence_mask = 0b010;
   }
