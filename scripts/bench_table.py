@@ -24,21 +24,24 @@ def main(path):
         if not name.startswith(("BM_Skin", "BM_Batch", "BM_Cut", "BM_Tear", "BM_Drill", "BM_Deform")):
             print(f"| {name} | {b['real_time']:.1f} |")
 
-    base = rows["BM_BatchMatrix3x4"]["items_per_second"]
-    print("\n| batch of 8192 points (float) | points/s | time ÷ 3×4 matrix |\n|---|---|---|")
-    for name in ("BM_BatchMatrix3x4", "BM_BatchVersorPointMap", "BM_BatchVersorSandwich"):
-        ips = rows[name]["items_per_second"]
-        print(f"| {name} | {ips / 1e6:.0f} M | {base / ips:.2f} |")
+    # Each table from the benchmarks present (a run may be filtered, e.g. to surgery).
+    if "BM_BatchMatrix3x4" in rows:
+        base = rows["BM_BatchMatrix3x4"]["items_per_second"]
+        print("\n| batch of 8192 points (float) | points/s | time ÷ 3×4 matrix |\n|---|---|---|")
+        for name in ("BM_BatchMatrix3x4", "BM_BatchVersorPointMap", "BM_BatchVersorSandwich"):
+            ips = rows[name]["items_per_second"]
+            print(f"| {name} | {ips / 1e6:.0f} M | {base / ips:.2f} |")
 
     for model in ("CesiumMan", "Million"):
-        sample = next(b for n, b in rows.items() if n.startswith(f"BM_Skin{model}/"))
+        sample = next((b for n, b in rows.items() if n.startswith(f"BM_Skin{model}/")), None)
+        if sample is None:
+            continue
         print(f"\n| {model} ({int(sample['vertices'])} vertices) | threads | vertices/s | ÷ matrix |\n|---|---|---|---|")
         for threads in ("1", "0"):
             ref = rows[f"BM_Skin{model}/mode:2/threads:{threads}/real_time"]["items_per_second"]
             for mode, label in MODES.items():
                 ips = rows[f"BM_Skin{model}/mode:{mode}/threads:{threads}/real_time"]["items_per_second"]
                 print(f"| {label} | {'1' if threads == '1' else 'all'} | {ips / 1e6:.1f} M | {ips / ref:.2f} |")
-
 
     surgery(rows)
     deform(rows)

@@ -53,8 +53,28 @@ std::vector<FaceKey> face_keys(const mesh::Mesh& m, const Points& placed, const 
   return out;
 }
 
+/// The edited BVH `have` answers as `want`, built from scratch over the same faces: the same
+/// faces hit by segments and near planes through the placed points `placed`.
+void expect_bvh_is_fresh(const mesh::TriangleBvh& have, const mesh::TriangleBvh& want,
+                         const mesh::RowMatrixXf<3>& placed, std::mt19937& rng) {
+  ASSERT_EQ(have.face_count(), want.face_count());
+  for (int q = 0; q < 20; ++q) {
+    const Eigen::Vector3d a = random_point_in_box(rng, placed), b = random_point_in_box(rng, placed);
+    const auto got = have.segment_hits(a, b), expected = want.segment_hits(a, b);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t h = 0; h < got.size(); ++h) EXPECT_EQ(got[h].face, expected[h].face);
+    const Eigen::Vector3d n = random_direction(rng);
+    std::vector<int> near_have, near_want;
+    have.faces_near_plane(n, n.dot(a), 1e-3 * want.diagonal(), near_have);
+    want.faces_near_plane(n, n.dot(a), 1e-3 * want.diagonal(), near_want);
+    std::sort(near_have.begin(), near_have.end());
+    std::sort(near_want.begin(), near_want.end());
+    ASSERT_EQ(near_have, near_want);
+  }
+}
+
 /// The index of `live` against one built from scratch over its model: the same adjacency, and
-/// the same faces hit by segments through the model.
+/// the same faces hit by segments and near planes through the model.
 void expect_index_is_fresh(const LiveModel& live, std::mt19937& rng) {
   const surgery::SurfaceIndex fresh = surgery::SurfaceIndex::build(live.model(), live.placement());
   for (std::size_t i = 0; i < live.model().meshes.size(); ++i) {
@@ -64,14 +84,7 @@ void expect_index_is_fresh(const LiveModel& live, std::mt19937& rng) {
     ASSERT_EQ(have.neighbor.size(), want.neighbor.size());
     for (std::size_t f = 0; f < have.neighbor.size(); ++f)
       ASSERT_EQ(have.neighbor[f], want.neighbor[f]) << "mesh " << i << " face " << f;
-    ASSERT_EQ(have.bvh.face_count(), want.bvh.face_count());
-    for (int q = 0; q < 20; ++q) {
-      const Eigen::Vector3d a = random_point_in_box(rng, live.placement().positions[i]);
-      const Eigen::Vector3d b = random_point_in_box(rng, live.placement().positions[i]);
-      const auto got = have.bvh.segment_hits(a, b), expected = want.bvh.segment_hits(a, b);
-      ASSERT_EQ(got.size(), expected.size());
-      for (std::size_t h = 0; h < got.size(); ++h) EXPECT_EQ(got[h].face, expected[h].face);
-    }
+    expect_bvh_is_fresh(have.bvh, want.bvh, live.placement().positions[i], rng);
   }
 }
 
@@ -342,6 +355,7 @@ TEST(LiveModel, CutInPlaceSeparatesThePiecesOfTheCopyingCut) {
             const bool across = g >= 0 && piece[f] != piece[static_cast<std::size_t>(g)];
             ASSERT_EQ(have[f][k], across ? -1 : g) << "mesh " << m << " face " << f << " edge " << k;
           }
+        expect_bvh_is_fresh(live.index().meshes[m].bvh, fresh.meshes[m].bvh, live.placement().positions[m], rng);
       }
       if (HasFatalFailure()) return;
     }
