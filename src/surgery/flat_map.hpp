@@ -39,11 +39,12 @@ class FlatMap {
     return {&values_[i], true};
   }
 
-  [[nodiscard]] Value* find(const Key& key) {
+  [[nodiscard]] const Value* find(const Key& key) const {
     if (slots_.empty()) return nullptr;
     const std::size_t i = probe(key);
     return slots_[i].used ? &values_[i] : nullptr;
   }
+  [[nodiscard]] Value* find(const Key& key) { return const_cast<Value*>(std::as_const(*this).find(key)); }
 
   [[nodiscard]] std::size_t size() const noexcept { return size_; }
 

@@ -220,13 +220,15 @@ SlotPlan plan_slots(const mesh::Mesh& m, const RowMatrixXf<3>& placed, const std
 
 /// Where the new faces go when each lies in a removed face (its parent): the first into its
 /// parent's slot, the others appended in the parent's BVH leaf; the BVH boxes barely grow.
-SlotPlan plan_slots_by_parent(const std::vector<int>& removed, const std::vector<int>& parent) {
+/// `rank` maps each removed face to its index in `removed`.
+SlotPlan plan_slots_by_parent(const std::vector<int>& removed, const std::vector<int>& parent,
+                              const FlatMap<int>& rank) {
   SlotPlan plan;
   plan.slot.assign(parent.size(), -1);
   plan.near = parent;
   std::vector<char> taken(removed.size(), 0);
   for (std::size_t t = 0; t < parent.size(); ++t) {
-    const auto r = static_cast<std::size_t>(std::lower_bound(removed.begin(), removed.end(), parent[t]) - removed.begin());
+    const auto r = static_cast<std::size_t>(*rank.find(static_cast<std::uint64_t>(parent[t])));
     if (taken[r] == 0) {
       taken[r] = 1;
       plan.slot[t] = removed[r];
@@ -245,6 +247,15 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   RowMatrixXf<3>& placed = detail::LiveAccess::placed(live, i);
   MeshIndex& index = detail::LiveAccess::index(live, i);
   const std::vector<int> removed = checked_removed_faces(m, edit);
+  // Removed faces by id (a hash, not a binary search: its branches mispredict).
+  FlatMap<int> rank;
+  rank.reserve(removed.size());
+  for (std::size_t r = 0; r < removed.size(); ++r) rank.try_emplace(static_cast<std::uint64_t>(removed[r]), static_cast<int>(r));
+  const auto is_removed = [&](int f) { return rank.find(static_cast<std::uint64_t>(f)) != nullptr; };
+  if (!edit.new_face_parent.empty() &&
+      (edit.new_face_parent.size() != edit.new_faces.size() ||
+       !std::all_of(edit.new_face_parent.begin(), edit.new_face_parent.end(), is_removed)))
+    throw InvalidInputError("surgery: a new face's parent is not a removed face");
   const int nv = static_cast<int>(m.vertex_count());
   AppliedEdit out;
   out.old_vertex_count = nv;
@@ -270,7 +281,6 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
     if (out.fresh[k] >= 0) placed.row(out.fresh[k]) = edit.new_placed[k].cast<float>().transpose();
 
   // Adjacency entries of untouched faces that point into the removed ones: found again below.
-  const auto is_removed = [&](int f) { return std::binary_search(removed.begin(), removed.end(), f); };
   std::vector<std::pair<int, int>> open_entries;
   for (const int r : removed)
     for (const int g : index.neighbor[static_cast<std::size_t>(r)])
@@ -287,7 +297,7 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   for (auto& t : faces)
     for (int& x : t) x = out.vertex_of(x);
   const SlotPlan plan = edit.new_face_parent.empty() ? plan_slots(m, placed, removed, faces)
-                                                     : plan_slots_by_parent(removed, edit.new_face_parent);
+                                                     : plan_slots_by_parent(removed, edit.new_face_parent, rank);
   FaceSlots slots(m, placed, index);
   std::vector<int>& ids = out.change.new_faces;
   ids.assign(faces.size(), -1);

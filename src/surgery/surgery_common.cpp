@@ -17,15 +17,6 @@
 
 namespace cgamesh::surgery {
 
-std::uint64_t edge_key(int a, int b) noexcept {
-  const auto [lo, hi] = std::minmax(a, b);
-  return directed_key(lo, hi);
-}
-
-std::uint64_t directed_key(int a, int b) noexcept {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
-
 // The coordinates are scanned 12 (4 rows) at a time, which vectorises, then reduced per axis.
 double bounding_diagonal(const mesh::RowMatrixXf<3>& points) {
   if (points.rows() == 0) return 0;
@@ -143,11 +134,6 @@ std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& e
   for (const auto& t : edit.new_faces)
     for (int x : t)
       if (x < 0 || x >= total) throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
-  if (!edit.new_face_parent.empty() &&
-      (edit.new_face_parent.size() != edit.new_faces.size() ||
-       !std::all_of(edit.new_face_parent.begin(), edit.new_face_parent.end(),
-                    [&](int f) { return std::binary_search(removed.begin(), removed.end(), f); })))
-    throw InvalidInputError("surgery: a new face's parent is not a removed face");
   if (edit.new_placed.size() != edit.new_vertices.size())
     throw InvalidInputError("surgery: the edit has a placed position for " + std::to_string(edit.new_placed.size()) +
                             " of its " + std::to_string(edit.new_vertices.size()) + " new vertices");

@@ -24,10 +24,12 @@ namespace cgamesh::surgery {
 
 using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-/// Key of the undirected edge {a, b}.
-[[nodiscard]] std::uint64_t edge_key(int a, int b) noexcept;
 /// Key of the directed edge a -> b.
-[[nodiscard]] std::uint64_t directed_key(int a, int b) noexcept;
+[[nodiscard]] inline std::uint64_t directed_key(int a, int b) noexcept {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+/// Key of the undirected edge {a, b}.
+[[nodiscard]] inline std::uint64_t edge_key(int a, int b) noexcept { return a < b ? directed_key(a, b) : directed_key(b, a); }
 
 /// Signed distance of the point x from the plane n·x = d: X·Π with X = up(x) and Π = n + d e∞
 /// (cga), or n·x − d (euclidean).
@@ -97,8 +99,7 @@ struct EditedMesh {
 
 /// The removed faces of `edit`, sorted.
 /// @throws InvalidInputError for a removed face or a new face's vertex out of range, a face
-///         removed twice, a new vertex without a placed position, or a new face's parent that
-///         is not removed.
+///         removed twice, or a new vertex without a placed position.
 [[nodiscard]] std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& edit);
 
 /// The old faces that are not removed, in their order, then the new faces; vertices no face
@@ -135,7 +136,8 @@ struct AppliedEdit {
 /// except that copies for different sides of a separation stay apart.
 /// `adjust`, when given, may move the vertices of the new faces (a tear's opening) once they are
 /// in the mesh, before the index is brought up to date.
-/// @throws InvalidInputError for an id out of range, before anything is changed.
+/// @throws InvalidInputError for an id out of range or a new face's parent that is not removed,
+///         before anything is changed.
 [[nodiscard]] AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit,
                                               const std::function<void(const AppliedEdit&)>& adjust = {});
 
