@@ -37,8 +37,11 @@ struct MeshChange {
 /// overloads of cut_in_place, tear and drill taking a LiveModel&). The three stay consistent:
 /// every vertex has a placed position, and the index covers every face. New vertices get rest
 /// positions and skin weights from their origins (section 4.3), so model() re-animates.
-/// Growing a mesh by a few vertices reallocates its arrays; for large meshes glibc does that by
-/// remapping pages, so the cost stays that of the edit (measured in BENCHMARKS.md).
+/// Growing a mesh by a few vertices reallocates its arrays (Eigen matrices have no spare
+/// capacity): a copy for a block on the heap, a page remap for an mmapped one. On meshes of a
+/// million faces the copies are most of an operation's time unless large blocks are mmapped
+/// (glibc: a fixed mmap threshold, e.g. GLIBC_TUNABLES=glibc.malloc.mmap_threshold=131072);
+/// measured in BENCHMARKS.md.
 class LiveModel {
  public:
   /// Indexes `model` as placed in `placement` (SurfaceIndex::build, O(F log F)).
