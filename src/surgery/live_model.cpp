@@ -71,9 +71,7 @@ void weld_new_vertices(const mesh::Mesh& m, std::span<const mesh::VertexSource> 
       weld.push_back(weld[static_cast<std::size_t>(o.vertex[0])]);
       continue;
     }
-    // +0.0f folds -0.0f into 0.0f, whose bits differ.
-    const std::array<float, 3> at{m.positions(v, 0) + 0.0f, m.positions(v, 1) + 0.0f, m.positions(v, 2) + 0.0f};
-    weld.push_back(*first_at.try_emplace({at, side[i]}, static_cast<int>(v)).first);
+    weld.push_back(*first_at.try_emplace({position_key(m.positions, v), side[i]}, static_cast<int>(v)).first);
   }
 }
 
@@ -164,9 +162,9 @@ std::uint32_t morton(const Eigen::Vector3f& p, const Eigen::Vector3f& lo, const 
          (spread(static_cast<std::uint32_t>(q.z())) << 2);
 }
 
-/// Where the new faces go, when they have no parents: each into the slot of the removed face next to it in Morton order of
-/// the centroids when that slot is still free, else appended in that face's BVH leaf; so the BVH
-/// boxes barely grow.
+/// Where the new faces go when they have no parents (a drill's): each into the slot of the
+/// removed face next to it in Morton order of the centroids when that slot is still free, else
+/// appended in that face's BVH leaf; so the BVH boxes barely grow.
 struct SlotPlan {
   std::vector<int> slot;       ///< per new face: the removed face whose slot it takes, or −1
   std::vector<int> near;       ///< per appended new face: the removed face it goes next to

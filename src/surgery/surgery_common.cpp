@@ -53,9 +53,7 @@ std::size_t PositionHash::operator()(const std::array<float, 3>& p) const noexce
 }
 
 int PositionWelder::operator()(int v) {
-  // +0.0f folds -0.0f into 0.0f, whose bits differ.
-  const std::array<float, 3> p{positions_(v, 0) + 0.0f, positions_(v, 1) + 0.0f, positions_(v, 2) + 0.0f};
-  return *first_.try_emplace(p, v).first;
+  return *first_.try_emplace(position_key(positions_, v), v).first;
 }
 
 std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions) {

@@ -41,6 +41,12 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// Length of the bounding-box diagonal of the rows of `points` (0 when empty).
 [[nodiscard]] double bounding_diagonal(const mesh::RowMatrixXf<3>& points);
 
+/// Row v of `positions` as a key of its exact position: +0.0f folds -0.0f into 0.0f, whose bits
+/// differ.
+[[nodiscard]] inline std::array<float, 3> position_key(const mesh::RowMatrixXf<3>& positions, Eigen::Index v) {
+  return {positions(v, 0) + 0.0f, positions(v, 1) + 0.0f, positions(v, 2) + 0.0f};
+}
+
 /// Hash of a position by its bits.
 struct PositionHash {
   std::size_t operator()(const std::array<float, 3>& p) const noexcept;
