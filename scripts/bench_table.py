@@ -21,7 +21,7 @@ def main(path):
 
     print("| algebra benchmark | time (ns) |\n|---|---|")
     for name, b in rows.items():
-        if not name.startswith(("BM_Skin", "BM_Batch", "BM_Cut", "BM_Tear", "BM_Drill", "BM_Deform")):
+        if not name.startswith(("BM_Skin", "BM_Batch", "BM_Cut", "BM_Tear", "BM_Drill", "BM_Deform", "BM_Render")):
             print(f"| {name} | {b['real_time']:.1f} |")
 
     # Each table from the benchmarks present (a run may be filtered, e.g. to surgery).
@@ -45,6 +45,7 @@ def main(path):
 
     surgery(rows)
     deform(rows)
+    pictures(rows)
 
 
 # The seed's Python on a ~3k-vertex arm (paper section 4.3), milliseconds.
@@ -54,6 +55,18 @@ SEED_MS = {"Cut": 4666.0, "Tear": 2437.0, "Drill": 274.0}
 def ms(b):
     scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
     return b["real_time"] * scale
+
+
+def pictures(rows):
+    if "BM_RenderCesiumMan" not in rows:
+        return
+    print("\n| picture (1280×960, 4× MSAA) | faces | time | pictures/s |\n|---|---|---|---|")
+    for name, label in (("BM_RenderCesiumMan", "CesiumMan"), ("BM_RenderMillion", "CesiumMan subdivided")):
+        if name in rows:
+            t = ms(rows[name])
+            print(f"| {label} | {int(rows[name]['faces'])} | {t:.1f} ms | {1000 / t:.1f} |")
+    if "BM_RenderSetup" in rows:
+        print(f"| set-up once (EGL context, shaders) | | {ms(rows['BM_RenderSetup']):.1f} ms | |")
 
 
 def surgery(rows):

@@ -14,6 +14,7 @@ packages=(
   libassimp-dev assimp-testmodels
   libtinygltf-dev
   libcgal-dev
+  libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev libstb-dev
 )
 
 if [ "$(id -u)" -eq 0 ]; then sudo_cmd=(); else sudo_cmd=(sudo); fi

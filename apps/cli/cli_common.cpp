@@ -93,6 +93,29 @@ int clip_index(const anim::RiggedModel& model, const std::string& anim) {
   throw InvalidInputError("no animation '" + anim + "' (the model has " + std::to_string(model.clips.size()) + ")");
 }
 
+void PoseChoice::add_to(CLI::App& sub) {
+  sub.add_option("--anim", anim, anim_help + " (name or index; default: bind pose)");
+  time_option = sub.add_option("--time", time, "seconds into the animation (default 0 with --anim)");
+  sub.add_option("--blend", blend, "key blending: format, linear or log")
+      ->transform(CLI::CheckedTransformer(kBlendModes, CLI::ignore_case));
+  sub.add_option("--set", sets, "JOINT:rotate=AX,AY,AZ,DEG | JOINT:translate=X,Y,Z | JOINT:scale=S (repeatable)");
+}
+
+anim::Pose PoseChoice::pose(const anim::RiggedModel& model) const {
+  const bool timed = time_option != nullptr && time_option->count() > 0;
+  if (timed && (!std::isfinite(time) || time < 0)) throw InvalidInputError("--time must be a finite number >= 0");
+  const bool animated = !anim.empty() || timed;
+  const int clip = animated ? clip_index(model, anim) : -1;
+  if (animated && clip < 0) throw InvalidInputError("--anim/--time: the model has no animation");
+  anim::Pose p = clip < 0 ? anim::rest_pose(model.skeleton)
+                          : anim::sample(model.skeleton, model.clips[static_cast<std::size_t>(clip)],
+                                         time, blend);
+  std::vector<anim::JointEdit> edits;
+  for (const std::string& s : sets) edits.push_back(parse_edit(model.skeleton, s));
+  anim::apply_edits(p, edits);
+  return p;
+}
+
 std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
                                                    SkinningMode mode) {
   const auto gv = anim::global_versors(model.skeleton, pose);

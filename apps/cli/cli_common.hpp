@@ -5,7 +5,10 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
@@ -27,6 +30,25 @@ extern const std::map<std::string, anim::SkinningMode> kSkinningModes;
 /// The clip named or numbered `anim`; the first clip (or -1 without clips) when empty.
 /// @throws InvalidInputError when there is no such clip.
 [[nodiscard]] int clip_index(const anim::RiggedModel& model, const std::string& anim);
+
+/// The pose options of the surgery commands and `render`: a clip at a time, user edits, or the
+/// bind pose (the default).
+struct PoseChoice {
+  explicit PoseChoice(std::string help) : anim_help(std::move(help)) {}
+
+  std::string anim_help;  ///< what --anim does, for the help text
+  std::string anim;
+  double time = 0;
+  anim::BlendMode blend = anim::BlendMode::format;
+  std::vector<std::string> sets;
+  const CLI::Option* time_option = nullptr;  ///< set by add_to(); given or not
+
+  /// Adds --anim, --time, --blend and --set to `sub`.
+  void add_to(CLI::App& sub);
+  /// The chosen pose of `model`.
+  /// @throws InvalidInputError for a bad time, an unknown clip or joint, or a malformed edit.
+  [[nodiscard]] anim::Pose pose(const anim::RiggedModel& model) const;
+};
 
 /// World-space positions of every mesh in `pose`.
 [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,

@@ -6,6 +6,7 @@
 
 #include "algebra_demo.hpp"
 #include "model_commands.hpp"
+#include "render_command.hpp"
 #include "deform_command.hpp"
 #include "surgery_commands.hpp"
 #include "cgamesh/errors.hpp"
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
   cgamesh::cli::add_tear(app);
   cgamesh::cli::add_drill(app);
   cgamesh::cli::add_deform(app);
+  cgamesh::cli::add_render(app);
   cgamesh::cli::add_algebra_demo(app);
   try {
     app.parse(argc, argv);
@@ -38,6 +40,9 @@ int main(int argc, char** argv) {
   } catch (const cgamesh::InvalidInputError& e) {
     std::cerr << "cgamesh: invalid input: " << e.what() << "\n";
     return cgamesh::cli::kExitBadArguments;
+  } catch (const cgamesh::PlatformError& e) {
+    std::cerr << "cgamesh: this machine cannot do it: " << e.what() << "\n";
+    return cgamesh::cli::kExitPlatform;
   } catch (const cgamesh::Error& e) {
     std::cerr << "cgamesh: " << e.what() << "\n";
     return cgamesh::cli::kExitImpossible;

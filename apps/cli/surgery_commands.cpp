@@ -24,36 +24,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-/// Where the tool is placed: a clip at a time, user edits, or the bind pose (the default).
-struct PlacementOptions {
-  std::string anim;
-  double time = -1;
-  anim::BlendMode blend = anim::BlendMode::format;
-  std::vector<std::string> sets;
-
-  void add_to(CLI::App& sub) {
-    sub.add_option("--anim", anim, "place the tool against this animation (name or index; default: bind pose)");
-    sub.add_option("--time", time, "seconds into the animation (default 0 with --anim)");
-    sub.add_option("--blend", blend, "key blending: format, linear or log")
-        ->transform(CLI::CheckedTransformer(kBlendModes, CLI::ignore_case));
-    sub.add_option("--set", sets, "JOINT:rotate=AX,AY,AZ,DEG | JOINT:translate=X,Y,Z | JOINT:scale=S (repeatable)");
-  }
-
-  [[nodiscard]] anim::Pose pose(const anim::RiggedModel& model) const {
-    if (time != -1 && (!std::isfinite(time) || time < 0)) throw InvalidInputError("--time must be a finite number >= 0");
-    const bool animated = !anim.empty() || time >= 0;
-    const int clip = animated ? clip_index(model, anim) : -1;
-    if (animated && clip < 0) throw InvalidInputError("--anim/--time: the model has no animation");
-    anim::Pose p = clip < 0 ? anim::rest_pose(model.skeleton)
-                            : anim::sample(model.skeleton, model.clips[static_cast<std::size_t>(clip)],
-                                           std::max(time, 0.0), blend);
-    std::vector<anim::JointEdit> edits;
-    for (const std::string& s : sets) edits.push_back(parse_edit(model.skeleton, s));
-    anim::apply_edits(p, edits);
-    return p;
-  }
-};
-
 /// The files of one result: a rigged glTF (skin, skeleton, clips), or for OBJ/PLY the surface
 /// as placed (the pose the tool was used in).
 std::vector<io::EncodedFile> encode_result(const anim::RiggedModel& model,
@@ -70,7 +40,7 @@ double milliseconds_since(std::chrono::steady_clock::time_point start) {
 /// how the result is reported.
 struct SurgeryCommand {
   std::string model;
-  PlacementOptions placement;
+  PoseChoice placement{"place the tool against this animation"};
   bool euclidean = false;
   bool json = false;
 

@@ -44,4 +44,11 @@ class SolverError : public Error {
   using Error::Error;
 };
 
+/// The machine cannot provide what was asked: no EGL display or OpenGL 3.3 context for
+/// rendering, no window system for the viewer.
+class PlatformError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace cgamesh

@@ -1,6 +1,7 @@
 #include "cgamesh/anim/skinning.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "cgamesh/cga/geometry.hpp"
@@ -44,26 +45,61 @@ void for_each_influence(const Mesh& m, Eigen::Index i, F&& f) {
   }
 }
 
+/// Blended dual quaternion of vertex i, normalised: rotation q and dual part d.
+void blend_dual_quaternion(const Mesh& mesh, const SkinningPalette& p, Eigen::Index i, Eigen::Quaternionf& q,
+                           Eigen::Quaternionf& d) {
+  Eigen::Matrix<float, 8, 1> b = Eigen::Matrix<float, 8, 1>::Zero();
+  const Eigen::Matrix<float, 8, 1>* first = nullptr;
+  for_each_influence(mesh, i, [&](int k, float w) {
+    const auto& dq = p.dual_quats[k];
+    if (!first) first = &dq;
+    b += (first->head<4>().dot(dq.head<4>()) < 0 ? -w : w) * dq;
+  });
+  const float n = b.head<4>().norm();
+  q = Eigen::Quaternionf(b[3] / n, b[0] / n, b[1] / n, b[2] / n);
+  d = Eigen::Quaternionf(b[7] / n, b[4] / n, b[5] / n, b[6] / n);
+}
+
+/// Blended versor of vertex i, renormalised (versor skinning).
+template <class V>
+V blend_versor(const Mesh& mesh, std::span<const V> palette, Eigen::Index i) {
+  V v;
+  const V* first = nullptr;
+  int count = 0;
+  for_each_influence(mesh, i, [&](int k, float w) {
+    const V& pk = palette[k];
+    if (!first) first = &pk;
+    ++count;
+    // V and -V are the same transform: blend on the side of the first influence.
+    v += (cga::scalar_product(*first, cga::reverse(pk)) < 0 ? -w : w) * pk;
+  });
+  // One influence (weight 1) is already a unit versor.
+  return count > 1 ? cga::normalized(v) : v;
+}
+
 /// Versor skinning: per vertex, blend the palette versors, renormalise, one sandwich.
 template <class V>
 void skin_blended(const Mesh& mesh, std::span<const V> palette, Eigen::Index begin, Eigen::Index end,
                   RowMatrixXf<3>& out) {
   for (Eigen::Index i = begin; i < end; ++i) {
-    V v;
-    const V* first = nullptr;
-    int count = 0;
-    for_each_influence(mesh, i, [&](int k, float w) {
-      const V& pk = palette[k];
-      if (!first) first = &pk;
-      ++count;
-      // V and -V are the same transform: blend on the side of the first influence.
-      v += (cga::scalar_product(*first, cga::reverse(pk)) < 0 ? -w : w) * pk;
-    });
-    // One influence (weight 1) is already a unit versor.
-    if (count > 1) v = cga::normalized(v);
-    const cga::Vector<float> y = cga::unit_sandwich(v, cga::up(Eigen::Vector3f(mesh.positions.row(i).transpose())));
+    const cga::Vector<float> y =
+        cga::unit_sandwich(blend_versor(mesh, palette, i), cga::up(Eigen::Vector3f(mesh.positions.row(i).transpose())));
     const float inv = 1.0f / y.get<cga::blade::eo>();
     out.row(i) << y[0] * inv, y[1] * inv, y[2] * inv;
+  }
+}
+
+/// Versor skinning of normals: the Euclidean part of the blended versor's sandwich of n.
+template <class V>
+void skin_blended_normals(const Mesh& mesh, std::span<const V> palette, Eigen::Index begin, Eigen::Index end,
+                          RowMatrixXf<3>& out) {
+  for (Eigen::Index i = begin; i < end; ++i) {
+    cga::Vector<float> n;
+    n[0] = mesh.normals(i, 0);
+    n[1] = mesh.normals(i, 1);
+    n[2] = mesh.normals(i, 2);
+    const cga::Vector<float> y = cga::unit_sandwich(blend_versor(mesh, palette, i), n);
+    out.row(i) << y[0], y[1], y[2];
   }
 }
 
@@ -130,16 +166,8 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
       return;
     case SkinningMode::dqs:
       for (Eigen::Index i = begin; i < end; ++i) {
-        Eigen::Matrix<float, 8, 1> b = Eigen::Matrix<float, 8, 1>::Zero();
-        const Eigen::Matrix<float, 8, 1>* first = nullptr;
-        for_each_influence(mesh, i, [&](int k, float w) {
-          const auto& dq = p.dual_quats[k];
-          if (!first) first = &dq;
-          b += (first->head<4>().dot(dq.head<4>()) < 0 ? -w : w) * dq;
-        });
-        const float n = b.head<4>().norm();
-        const Eigen::Quaternionf q(b[3] / n, b[0] / n, b[1] / n, b[2] / n);
-        const Eigen::Quaternionf d(b[7] / n, b[4] / n, b[5] / n, b[6] / n);
+        Eigen::Quaternionf q, d;
+        blend_dual_quaternion(mesh, p, i, q, d);
         const Eigen::Vector3f t = 2.0f * (d * q.conjugate()).vec();
         out.row(i) = (q * Eigen::Vector3f(rest.row(i).transpose()) + t).transpose();
       }
@@ -151,6 +179,46 @@ RowMatrixXf<3> skin(const Mesh& mesh, const SkinningPalette& palette, int thread
   RowMatrixXf<3> out(mesh.vertex_count(), 3);
   detail::parallel_for(mesh.vertex_count(), threads,
                        [&](Eigen::Index begin, Eigen::Index end) { skin_range(mesh, palette, begin, end, out); });
+  return out;
+}
+
+RowMatrixXf<3> skin_normals(const Mesh& mesh, const SkinningPalette& p, int threads) {
+  RowMatrixXf<3> out(mesh.normals.rows(), 3);
+  if (mesh.normals.rows() == 0) return out;
+  if (mesh.normals.rows() != mesh.vertex_count())
+    throw InvalidInputError("skin_normals: mesh '" + mesh.name + "' has " + std::to_string(mesh.normals.rows()) +
+                            " normals for " + std::to_string(mesh.vertex_count()) + " vertices");
+  detail::parallel_for(mesh.vertex_count(), threads, [&](Eigen::Index begin, Eigen::Index end) {
+    switch (p.mode) {
+      case SkinningMode::cga:
+      case SkinningMode::matrix:
+        for (Eigen::Index i = begin; i < end; ++i) {
+          Eigen::Matrix3f l = Eigen::Matrix3f::Zero();
+          for_each_influence(mesh, i, [&](int k, float w) { l += w * p.affine[k].leftCols<3>(); });
+          // The cofactor matrix det(L) L^-T maps normals of any invertible L.
+          Eigen::Matrix3f cof;
+          cof << l.col(1).cross(l.col(2)), l.col(2).cross(l.col(0)), l.col(0).cross(l.col(1));
+          out.row(i) = (cof * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
+        }
+        break;
+      case SkinningMode::versor:
+        if (!p.motors.empty()) skin_blended_normals(mesh, std::span(p.motors), begin, end, out);
+        else skin_blended_normals(mesh, std::span(p.versors), begin, end, out);
+        break;
+      case SkinningMode::dqs:
+        for (Eigen::Index i = begin; i < end; ++i) {
+          Eigen::Quaternionf q, d;
+          blend_dual_quaternion(mesh, p, i, q, d);
+          out.row(i) = (q * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
+        }
+        break;
+    }
+    for (Eigen::Index i = begin; i < end; ++i) {
+      const float len = out.row(i).norm();
+      if (len > 0 && std::isfinite(len)) out.row(i) /= len;
+      else out.row(i) = mesh.normals.row(i);
+    }
+  });
   return out;
 }
 

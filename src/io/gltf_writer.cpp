@@ -18,6 +18,7 @@
 #include <tiny_gltf.h>
 
 #include "cgamesh/errors.hpp"
+#include "gltf_extras_reader.hpp"
 #include "cgamesh/io/atomic_file.hpp"
 
 namespace cgamesh::io {
@@ -223,6 +224,11 @@ class Builder {
     if (m.uvs.rows() == nv)
       prim.attributes["TEXCOORD_0"] = add_float_accessor(m.uvs.data(), static_cast<std::size_t>(nv), 2,
                                                          TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+    if (m.generated.rows() == nv && (m.generated.array() != 0).any()) {
+      const std::vector<float> flags(m.generated.data(), m.generated.data() + nv);
+      prim.attributes[detail::kGeneratedAttribute] = add_float_accessor(
+          flags.data(), static_cast<std::size_t>(nv), 1, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+    }
     int skin = -1;
     if (!m.skin.empty()) skin = add_skin(m, prim, label);
     prim.indices = add_indices(m);

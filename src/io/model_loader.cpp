@@ -1,7 +1,11 @@
 #include "cgamesh/io/model_loader.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -9,12 +13,13 @@
 #include <vector>
 
 #include <assimp/Importer.hpp>
+#include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include "cgamesh/anim/transform.hpp"
 #include "cgamesh/errors.hpp"
-#include "gltf_clip_reader.hpp"
+#include "gltf_extras_reader.hpp"
 
 namespace cgamesh::io {
 namespace {
@@ -35,7 +40,8 @@ std::string describe(const Eigen::Vector3d& s) {
 
 class Loader {
  public:
-  Loader(const aiScene& scene, const LoadOptions& options) : scene_(scene), options_(options) {}
+  Loader(const aiScene& scene, const LoadOptions& options, std::filesystem::path directory)
+      : scene_(scene), options_(options), directory_(std::move(directory)) {}
 
   anim::RiggedModel run() {
     collect_nodes(scene_.mRootNode, -1);
@@ -43,6 +49,7 @@ class Loader {
     model_.skeleton = anim::Skeleton::build(editable_, &remap);
     for (const auto& [node, mesh_index] : mesh_refs_) add_mesh(*scene_.mMeshes[mesh_index], remap[node], remap);
     if (model_.meshes.empty()) throw FileError("the file holds no triangle mesh");
+    for (unsigned i = 0; i < scene_.mNumMaterials; ++i) add_material(*scene_.mMaterials[i]);
     for (unsigned a = 0; a < scene_.mNumAnimations; ++a) add_clip(*scene_.mAnimations[a], a, remap);
     return std::move(model_);
   }
@@ -87,6 +94,7 @@ class Loader {
     }
     m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
     for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
+    if (in.mMaterialIndex < scene_.mNumMaterials) m.material = static_cast<int>(in.mMaterialIndex);
     if (in.HasBones()) add_skin(in, m, remap);
     else m.node = node;
     model_.meshes.push_back(std::move(m));
@@ -144,6 +152,67 @@ class Loader {
            std::string(in.mBones[0]->mName.C_Str()) + "'");
   }
 
+  void add_material(const aiMaterial& in) {
+    mesh::Material m;
+    aiString name;
+    if (in.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
+    aiColor4D c;
+    if (in.Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS || in.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
+      m.base_color = Eigen::Vector4f(c.r, c.g, c.b, c.a);
+      if (!m.base_color.allFinite()) {
+        warn("material '" + m.name + "' has a NaN or infinite colour; white used");
+        m.base_color.setOnes();
+      }
+    }
+    int two_sided = 0;
+    if (in.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) m.double_sided = two_sided != 0;
+    aiString path;
+    if (in.GetTexture(aiTextureType_BASE_COLOR, 0, &path) == AI_SUCCESS ||
+        in.GetTexture(aiTextureType_DIFFUSE, 0, &path) == AI_SUCCESS)
+      m.base_color_texture = texture(path.C_Str(), m.name);
+    model_.materials.push_back(std::move(m));
+  }
+
+  /// Index of the texture at `path` (embedded "*N" or a name, or a file next to the model), read
+  /// once; -1 with a warning when it cannot be read.
+  int texture(const std::string& path, const std::string& material) {
+    if (const auto it = texture_of_path_.find(path); it != texture_of_path_.end()) return it->second;
+    mesh::TextureImage image;
+    image.name = path;
+    if (const aiTexture* t = scene_.GetEmbeddedTexture(path.c_str())) {
+      if (t->mHeight != 0) {
+        warn("material '" + material + "': texture '" + path + "' is stored uncompressed; not kept");
+        return texture_of_path_[path] = -1;
+      }
+      const auto* bytes = reinterpret_cast<const std::uint8_t*>(t->pcData);
+      image.bytes.assign(bytes, bytes + t->mWidth);
+      const std::string hint = t->achFormatHint;
+      image.mime_type = hint == "png" ? "image/png" : hint == "jpg" || hint == "jpeg" ? "image/jpeg" : "";
+    } else {
+      std::string relative = path;
+      std::replace(relative.begin(), relative.end(), '\\', '/');
+      const std::filesystem::path file = directory_ / relative;
+      std::error_code ec;
+      const auto size = std::filesystem::file_size(file, ec);
+      if (ec || size == 0 || size > kMaxTextureBytes) {
+        warn("material '" + material + "': texture '" + path + "' " +
+             (ec ? "not found" : size == 0 ? "is empty" : "is larger than 256 MiB") + "; not kept");
+        return texture_of_path_[path] = -1;
+      }
+      std::ifstream stream(file, std::ios::binary);
+      image.bytes.resize(static_cast<std::size_t>(size));
+      if (!stream.read(reinterpret_cast<char*>(image.bytes.data()), static_cast<std::streamsize>(size))) {
+        warn("material '" + material + "': texture '" + path + "' cannot be read; not kept");
+        return texture_of_path_[path] = -1;
+      }
+      std::string ext = file.extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      image.mime_type = ext == ".png" ? "image/png" : ext == ".jpg" || ext == ".jpeg" ? "image/jpeg" : "";
+    }
+    model_.textures.push_back(std::move(image));
+    return texture_of_path_[path] = static_cast<int>(model_.textures.size()) - 1;
+  }
+
   void add_clip(const aiAnimation& in, unsigned index, const std::vector<int>& remap) {
     anim::Clip clip;
     clip.name = in.mName.length > 0 ? in.mName.C_Str() : "clip" + std::to_string(index);
@@ -198,8 +267,12 @@ class Loader {
 
   void warn(std::string message) { model_.warnings.push_back(std::move(message)); }
 
+  static constexpr std::uintmax_t kMaxTextureBytes = 256u << 20;
+
   const aiScene& scene_;
   const LoadOptions& options_;
+  std::filesystem::path directory_;
+  std::map<std::string, int> texture_of_path_;
   anim::EditableSkeleton editable_;
   std::map<std::string, int> by_name_;
   std::vector<std::pair<int, unsigned>> mesh_refs_;
@@ -225,16 +298,8 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
     throw FileError("cannot load '" + path.string() + "': " + what + error);
   }
   try {
-    anim::RiggedModel model = Loader(*scene, options).run();
-    if (detail::is_gltf(path)) {
-      std::vector<std::string> warnings;
-      std::optional<std::vector<anim::Clip>> clips = detail::read_gltf_clips(path, model.skeleton, warnings);
-      if (clips && clips->size() != model.clips.size())
-        warnings.push_back("the glTF animations did not match Assimp's; keys load as LINEAR");
-      else if (clips)
-        model.clips = std::move(*clips);
-      model.warnings.insert(model.warnings.end(), warnings.begin(), warnings.end());
-    }
+    anim::RiggedModel model = Loader(*scene, options, path.parent_path()).run();
+    if (detail::is_gltf(path)) detail::read_gltf_extras(path, model);
     return model;
   } catch (const FileError&) {
     throw;

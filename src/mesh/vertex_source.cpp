@@ -84,6 +84,7 @@ void check_sources(std::span<const VertexSource> sources, Eigen::Index nv) {
 /// `old`'s rows. `out` may be `old` itself, grown, as long as the sources lie before `first`.
 void blend_rows(const Mesh& old, std::span<const VertexSource> sources, Mesh& out, Eigen::Index first) {
   const bool has_normals = old.normals.rows() > 0, has_uvs = old.uvs.rows() > 0, has_skin = !old.skin.empty();
+  const bool had_generated = old.generated.rows() > 0;
   // One pass over the sources for all attributes: most new vertices are copies.
   const CopyRows<float, 3> positions{old.positions.data(), out.positions.data()},
       normals{old.normals.data(), out.normals.data()};
@@ -98,7 +99,9 @@ void blend_rows(const Mesh& old, std::span<const VertexSource> sources, Mesh& ou
       positions(v, i);
       if (has_normals) normals(v, i);
       if (has_uvs) uvs(v, i);
+      out.generated[i] = had_generated ? old.generated[v] : std::uint8_t{0};
     } else {
+      out.generated[i] = 1;
       blend_row(old.positions, s, out.positions, i, false);
       if (has_normals) blend_row(old.normals, s, out.normals, i, true);
       if (has_uvs) blend_row(old.uvs, s, out.uvs, i, false);
@@ -137,12 +140,14 @@ Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
   Mesh out;
   out.name = old.name;
   out.node = old.node;
+  out.material = old.material;
   out.faces = faces;
   // Attributes the old mesh lacks (0 rows) stay empty.
   const auto n = static_cast<Eigen::Index>(sources.size());
   out.positions.resize(n, 3);
   if (old.normals.rows() > 0) out.normals.resize(n, 3);
   if (old.uvs.rows() > 0) out.uvs.resize(n, 2);
+  out.generated.resize(n);
   if (!old.skin.empty()) {
     out.skin.palette = old.skin.palette;
     out.skin.inverse_bind = old.skin.inverse_bind;
@@ -161,6 +166,8 @@ void append_resampled(Mesh& m, std::span<const VertexSource> sources) {
   grow_rows(m.positions, n);
   grow_rows(m.normals, n);
   grow_rows(m.uvs, n);
+  if (m.generated.rows() > 0) m.generated.conservativeResize(first + n);
+  else m.generated = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>::Zero(first + n);
   if (!m.skin.empty()) {
     grow_rows(m.skin.joints, n);
     grow_rows(m.skin.weights, n);

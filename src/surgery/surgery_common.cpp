@@ -56,6 +56,22 @@ int PositionWelder::operator()(int v) {
   return *first_.try_emplace(position_key(positions_, v), v).first;
 }
 
+UnionFind::UnionFind(std::size_t n) : parent_(n) {
+  for (std::size_t a = 0; a < n; ++a) parent_[a] = static_cast<int>(a);
+}
+
+int UnionFind::find(int a) noexcept {
+  while (parent_[static_cast<std::size_t>(a)] != a)
+    a = parent_[static_cast<std::size_t>(a)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(a)])];
+  return a;
+}
+
+void UnionFind::unite(int a, int b) noexcept {
+  a = find(a);
+  b = find(b);
+  if (a != b) parent_[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+}
+
 std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions) {
   PositionWelder weld(positions);
   std::vector<int> out(static_cast<std::size_t>(positions.rows()));
@@ -77,6 +93,8 @@ int face_total(const anim::RiggedModel& model) {
 void copy_rig(const anim::RiggedModel& model, anim::RiggedModel& out) {
   out.skeleton = model.skeleton;
   out.clips = model.clips;
+  out.materials = model.materials;
+  out.textures = model.textures;
   out.warnings = model.warnings;
   out.source_max_influences = model.source_max_influences;
 }
@@ -187,10 +205,13 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   mesh::Mesh& m = out.mesh;
   m.name = old.name;
   m.node = old.node;
+  m.material = old.material;
   m.faces = std::move(faces);
   m.positions = stack_rows(old.positions, kept, all, blended.positions);
   m.normals = stack_rows(old.normals, kept, all, blended.normals);
   m.uvs = stack_rows(old.uvs, kept, all, blended.uvs);
+  m.generated = stack_rows(old.generated.rows() > 0 ? old.generated : decltype(old.generated)::Zero(nv), kept, all,
+                           blended.generated);
   if (!old.skin.empty()) {
     m.skin = std::move(blended.skin);
     m.skin.joints = stack_rows(old.skin.joints, kept, all, m.skin.joints);

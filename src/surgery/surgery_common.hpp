@@ -65,6 +65,18 @@ class PositionWelder {
   FlatMap<int, std::array<float, 3>, PositionHash> first_;
 };
 
+/// Disjoint sets of 0 … n−1 (union by index, path halving).
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n);
+  [[nodiscard]] int find(int a) noexcept;
+  /// Joins the sets of a and b.
+  void unite(int a, int b) noexcept;
+
+ private:
+  std::vector<int> parent_;
+};
+
 /// Per vertex, the welded id of PositionWelder for the whole mesh.
 [[nodiscard]] std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions);
 

@@ -564,12 +564,8 @@ class Tearer {
       std::sort(faces.begin(), faces.end());
       faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
       // Union-find over the faces around the point, joined across edges off the path.
-      std::vector<int> parent(faces.size());
-      for (std::size_t a = 0; a < parent.size(); ++a) parent[a] = static_cast<int>(a);
-      const auto root = [&](int a) {
-        while (parent[static_cast<std::size_t>(a)] != a) a = parent[static_cast<std::size_t>(a)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(a)])];
-        return a;
-      };
+      UnionFind sets(faces.size());
+      const auto root = [&](int a) { return sets.find(a); };
       std::unordered_map<long long, int> across;  // other end of an edge at the point -> a face
       for (std::size_t a = 0; a < faces.size(); ++a) {
         const Triangle& t = edit_.new_faces[static_cast<std::size_t>(faces[a])];
@@ -577,7 +573,7 @@ class Tearer {
           const long long o = key(x);
           if (o == k || path_edges.contains(std::minmax(k, o))) continue;
           const auto [it, added] = across.try_emplace(o, static_cast<int>(a));
-          if (!added) parent[static_cast<std::size_t>(root(static_cast<int>(a)))] = root(it->second);
+          if (!added) sets.unite(static_cast<int>(a), it->second);
         }
       }
       std::map<int, int> group_of_root;

@@ -115,3 +115,66 @@ TEST(Skinning, PaletteRejectsPoseOfAnotherSkeleton) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(SkinNormals, RigidVerticesTurnWithTheirJointInEveryMode) {
+  const auto model = io::load_model(cgamesh_test::demo_model());
+  const mesh::Mesh& m = model.meshes[0];
+  ASSERT_EQ(m.normals.rows(), m.vertex_count());
+  const Posed p = posed(model, anim::sample(model.skeleton, model.clips[0], 0.6, anim::BlendMode::format));
+  int rigid = 0;
+  for (const SkinningMode mode : {SkinningMode::cga, SkinningMode::versor, SkinningMode::matrix, SkinningMode::dqs}) {
+    const mesh::RowMatrixXf<3> n = anim::skin_normals(m, anim::make_palette(m, p.gv, p.gm, mode));
+    ASSERT_EQ(n.rows(), m.vertex_count());
+    rigid = 0;
+    for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
+      ASSERT_NEAR(n.row(v).norm(), 1.0f, 1e-5f);
+      if (m.skin.weights(v, 0) < 1.0f) continue;
+      ++rigid;
+      // One influence: the normal turns by that joint's rotation, M_n B_n.
+      const std::size_t k = m.skin.joints(v, 0);
+      const Eigen::Matrix3d r = (p.gm[static_cast<std::size_t>(m.skin.palette[k])] * m.skin.inverse_bind[k]).topLeftCorner<3, 3>();
+      const Eigen::Vector3d expected = (r * m.normals.row(v).transpose().cast<double>()).normalized();
+      ASSERT_LT((n.row(v).transpose().cast<double>() - expected).norm(), 1e-4) << static_cast<int>(mode) << " " << v;
+    }
+  }
+  EXPECT_GT(rigid, 100);
+}
+
+TEST(SkinNormals, CofactorKeepsNormalsPerpendicularUnderNonUniformScale) {
+  // One triangle on a joint that scales x by 3: its skinned normal must stay perpendicular to
+  // the skinned triangle, which a plain linear map of the normal would not.
+  mesh::Mesh m;
+  m.positions.resize(3, 3);
+  m.positions << 0, 0, 0, 1, 0, 1, 0, 1, 0;
+  m.faces.resize(1, 3);
+  m.faces << 0, 1, 2;
+  const Eigen::Vector3f face = Eigen::Vector3f(1, 0, 1).cross(Eigen::Vector3f(0, 1, 0)).normalized();
+  m.normals = face.transpose().replicate(3, 1);
+  m.skin.palette = {0};
+  m.skin.inverse_bind = {Eigen::Matrix4d::Identity()};
+  m.skin.inverse_bind_versors = {cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>())};
+  m.skin.joints.setZero(3, 4);
+  m.skin.weights.setZero(3, 4);
+  m.skin.weights.col(0).setOnes();
+  Eigen::Matrix4d g = Eigen::Matrix4d::Identity();
+  g.diagonal().head<3>() << 3, 1, 1;
+  const std::vector<Eigen::Matrix4d> gm{g};
+  const std::vector<cga::Versor<double>> gv{cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>())};
+  const auto palette = anim::make_palette(m, gv, gm, SkinningMode::matrix);
+  const mesh::RowMatrixXf<3> x = anim::skin(m, palette);
+  const mesh::RowMatrixXf<3> n = anim::skin_normals(m, palette);
+  const Eigen::Vector3f e1 = (x.row(1) - x.row(0)).transpose(), e2 = (x.row(2) - x.row(0)).transpose();
+  EXPECT_NEAR(n.row(0).dot(e1), 0, 1e-6);
+  EXPECT_NEAR(n.row(0).dot(e2), 0, 1e-6);
+  EXPECT_GT(n.row(0).dot(e1.cross(e2)), 0);
+  // Without normals there is nothing to skin; a wrong row count is an error.
+  mesh::Mesh bare = m;
+  bare.normals.resize(0, 3);
+  EXPECT_EQ(anim::skin_normals(bare, palette).rows(), 0);
+  bare.normals.resize(2, 3);
+  EXPECT_THROW(static_cast<void>(anim::skin_normals(bare, palette)), InvalidInputError);
+}
+
+}  // namespace

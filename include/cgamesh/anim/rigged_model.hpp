@@ -6,6 +6,7 @@
 
 #include "cgamesh/anim/clip.hpp"
 #include "cgamesh/anim/skeleton.hpp"
+#include "cgamesh/mesh/material.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 
 namespace cgamesh::anim {
@@ -14,6 +15,8 @@ struct RiggedModel {
   std::vector<mesh::Mesh> meshes;
   Skeleton skeleton;
   std::vector<Clip> clips;
+  std::vector<mesh::Material> materials;    ///< what Mesh::material indexes
+  std::vector<mesh::TextureImage> textures;  ///< what Material::base_color_texture indexes
   /// Everything the loader approximated or dropped (non-uniform scale, > 4 influences, ...).
   std::vector<std::string> warnings;
   /// Largest number of joints influencing one vertex in the file (before keeping 4).

@@ -45,6 +45,14 @@ void skin_range(const mesh::Mesh& mesh, const SkinningPalette& palette, Eigen::I
 /// Skins every vertex, split into jobs over `threads` threads (0: all hardware threads).
 [[nodiscard]] mesh::RowMatrixXf<3> skin(const mesh::Mesh& mesh, const SkinningPalette& palette, int threads = 0);
 
+/// Skinned unit normals of every vertex (#V×3; 0 rows when the mesh has no normals), turned by
+/// the linear part of each vertex's blended transform: cga, matrix — the cofactor of Σ w Aₙ
+/// (exact for any invertible map, non-uniform scale included); versor — the blended versor's
+/// sandwich of the Euclidean vector n (a dilator leaves directions unchanged); dqs — the
+/// blended rotation. A degenerate result (zero blended map) keeps the rest normal.
+/// @param[in] palette  make_palette(mesh, ...) in any mode
+[[nodiscard]] mesh::RowMatrixXf<3> skin_normals(const mesh::Mesh& mesh, const SkinningPalette& palette, int threads = 0);
+
 /// Eq. (17) written literally, one sandwich and down-projection per vertex and influence, in
 /// double: the reference the fast modes are tested against (slow).
 [[nodiscard]] mesh::RowMatrixXf<3> skin_cga_reference(const mesh::Mesh& mesh,

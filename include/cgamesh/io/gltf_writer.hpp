@@ -26,7 +26,8 @@ struct GltfWriteOptions {
 ///    extra root node "cgamesh_root" (identity) is placed above all skeleton roots.
 ///  - each mesh gets its own node and a glTF mesh with one triangle primitive: POSITION (with
 ///    min/max), NORMAL (renormalised; dropped with a warning if one is zero or not finite),
-///    TEXCOORD_0, and for a skinned mesh JOINTS_0 (UNSIGNED_SHORT) and WEIGHTS_0 (FLOAT, each
+///    TEXCOORD_0, _CGAMESH_GENERATED (FLOAT 0/1, Mesh::generated, when some vertex is
+///    generated; load_model() reads it back), and for a skinned mesh JOINTS_0 (UNSIGNED_SHORT) and WEIGHTS_0 (FLOAT, each
 ///    row renormalised to sum 1, duplicate joints merged, zero-weight joints set to 0); indices
 ///    UNSIGNED_SHORT when the mesh has at most 65535 vertices, else UNSIGNED_INT. Vertices are
 ///    written as they are, never merged.

@@ -41,8 +41,13 @@ struct Mesh {
   RowMatrixXf<3> normals;    ///< #V x 3 unit normals, or 0 rows
   RowMatrixXf<2> uvs;        ///< #V x 2 texture coordinates (set 0), or 0 rows
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces;  ///< #F x 3 vertex indices
+  /// #V 1 where an operation made the vertex (a point on an old edge or face: cut, tear, drill,
+  /// subdivision), 0 where it comes from the file or is a copy of such a vertex; 0 rows when
+  /// no operation made any. glTF files keep it as the attribute _CGAMESH_GENERATED.
+  Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> generated;
   Skin skin;                 ///< empty for a static mesh
   int node = -1;             ///< skeleton node the mesh hangs from (static meshes), or -1
+  int material = -1;         ///< index into RiggedModel::materials, or -1 (none)
 
   [[nodiscard]] Eigen::Index vertex_count() const noexcept { return positions.rows(); }
   [[nodiscard]] Eigen::Index face_count() const noexcept { return faces.rows(); }

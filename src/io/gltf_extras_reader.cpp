@@ -1,4 +1,4 @@
-#include "gltf_clip_reader.hpp"
+#include "gltf_extras_reader.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -122,29 +122,12 @@ std::string lower_extension(const std::filesystem::path& path) {
   return ext;
 }
 
-}  // namespace
 
-bool is_gltf(const std::filesystem::path& path) {
-  const std::string ext = lower_extension(path);
-  return ext == ".gltf" || ext == ".glb";
-}
-
-std::optional<std::vector<anim::Clip>> read_gltf_clips(const std::filesystem::path& path,
-                                                       const anim::Skeleton& skeleton,
-                                                       std::vector<std::string>& warnings) {
-  tinygltf::TinyGLTF reader;
-  reader.SetImageLoader(&skip_image, nullptr);
-  tinygltf::Model model;
-  std::string err, warn;
-  const bool ok = lower_extension(path) == ".glb" ? reader.LoadBinaryFromFile(&model, &err, &warn, path.string())
-                                : reader.LoadASCIIFromFile(&model, &err, &warn, path.string());
-  if (!ok) {
-    // Assimp read the file (glTF 1.0, say, which tinygltf does not): its LINEAR keys stand.
-    while (!err.empty() && err.back() == '\n') err.pop_back();
-    warnings.push_back("the animations' interpolation could not be read (" + err + "); keys load as LINEAR");
-    return std::nullopt;
-  }
-
+/// The clips of the file, channels bound to `skeleton` joints by node name (or Assimp's
+/// "nodes[i]" for unnamed nodes), with times, values and interpolation as the file stores them
+/// (cubic splines keep their in/out tangents). Morph-target weight channels are skipped.
+std::vector<anim::Clip> read_gltf_clips(const tinygltf::Model& model, const anim::Skeleton& skeleton,
+                                        std::vector<std::string>& warnings) {
   std::vector<anim::Clip> clips;
   for (std::size_t a = 0; a < model.animations.size(); ++a) {
     const tinygltf::Animation& in = model.animations[a];
@@ -176,6 +159,57 @@ std::optional<std::vector<anim::Clip>> read_gltf_clips(const std::filesystem::pa
     clips.push_back(std::move(clip));
   }
   return clips;
+}
+
+/// Mesh::generated of `m` from a primitive that has _CGAMESH_GENERATED and exactly m's
+/// positions (left empty when none has).
+void read_generated(const tinygltf::Model& file, mesh::Mesh& m) {
+  const auto nv = static_cast<std::size_t>(m.vertex_count());
+  for (const tinygltf::Mesh& gm : file.meshes)
+    for (const tinygltf::Primitive& p : gm.primitives) {
+      const auto flag = p.attributes.find(kGeneratedAttribute), position = p.attributes.find("POSITION");
+      if (flag == p.attributes.end() || position == p.attributes.end()) continue;
+      const AccessorView flags(file, flag->second, kGeneratedAttribute), xyz(file, position->second, "POSITION");
+      if (flags.count() != nv || xyz.count() != nv || flags.components() != 1 || xyz.components() != 3) continue;
+      bool same = true;
+      for (std::size_t v = 0; v < nv && same; ++v)
+        for (int c = 0; c < 3; ++c)
+          same = same && static_cast<float>(xyz.get(v, c)) == m.positions(static_cast<Eigen::Index>(v), c);
+      if (!same) continue;
+      m.generated.resize(static_cast<Eigen::Index>(nv));
+      for (std::size_t v = 0; v < nv; ++v) m.generated[static_cast<Eigen::Index>(v)] = flags.get(v, 0) > 0.5 ? 1 : 0;
+      return;
+    }
+}
+
+}  // namespace
+
+bool is_gltf(const std::filesystem::path& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".gltf" || ext == ".glb";
+}
+
+void read_gltf_extras(const std::filesystem::path& path, anim::RiggedModel& model) {
+  tinygltf::TinyGLTF reader;
+  reader.SetImageLoader(&skip_image, nullptr);
+  tinygltf::Model file;
+  std::string err, warn;
+  const bool ok = lower_extension(path) == ".glb" ? reader.LoadBinaryFromFile(&file, &err, &warn, path.string())
+                                                  : reader.LoadASCIIFromFile(&file, &err, &warn, path.string());
+  if (!ok) {
+    // Assimp read the file (glTF 1.0, say, which tinygltf does not): its LINEAR keys stand.
+    while (!err.empty() && err.back() == '\n') err.pop_back();
+    model.warnings.push_back("the animations' interpolation could not be read (" + err + "); keys load as LINEAR");
+    return;
+  }
+  std::vector<std::string> warnings;
+  std::vector<anim::Clip> clips = read_gltf_clips(file, model.skeleton, warnings);
+  if (clips.size() != model.clips.size())
+    warnings.push_back("the glTF animations did not match Assimp's; keys load as LINEAR");
+  else
+    model.clips = std::move(clips);
+  for (mesh::Mesh& m : model.meshes) read_generated(file, m);
+  model.warnings.insert(model.warnings.end(), warnings.begin(), warnings.end());
 }
 
 }  // namespace cgamesh::io::detail

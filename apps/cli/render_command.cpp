@@ -1,0 +1,170 @@
+#include "render_command.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cgamesh/errors.hpp"
+#include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/render/camera.hpp"
+#include "cgamesh/render/headless_context.hpp"
+#include "cgamesh/render/model_scene.hpp"
+#include "cgamesh/render/renderer.hpp"
+#include "cli_common.hpp"
+
+namespace cgamesh::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+/// The largest number of views in one contact sheet.
+constexpr int kMaxTurntable = 64;
+
+struct RenderCommand {
+  std::vector<std::string> models;
+  std::string output;
+  PoseChoice pose{"pose the models in this animation"};
+  anim::SkinningMode skinning = anim::SkinningMode::cga;
+  std::string color = "material", size = "1280x960", view, camera, bg = "1,1,1";
+  double fov = 35;
+  bool frame = false, wireframe = false, skeleton = false, json = false;
+  int turntable = 0;
+
+  /// "WxH" as two positive integers.
+  void parse_size(render::RenderOptions& o) const {
+    const std::size_t x = size.find_first_of("xX");
+    if (x == std::string::npos) throw InvalidInputError("--size '" + size + "': expected WIDTHxHEIGHT, e.g. 1280x960");
+    const auto side = [&](const std::string& text) {
+      std::size_t used = 0;
+      long v = 0;
+      try {
+        v = std::stol(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != text.size() || v < 1 || v > render::kMaxImageSide)
+        throw InvalidInputError("--size '" + size + "': each side must be an integer from 1 to " +
+                                std::to_string(render::kMaxImageSide));
+      return static_cast<int>(v);
+    };
+    o.width = side(size.substr(0, x));
+    o.height = side(size.substr(x + 1));
+  }
+
+  void run() const {
+    // Every argument is checked before any model is read or any context made.
+    if (std::filesystem::path(output).extension() != ".png" && std::filesystem::path(output).extension() != ".PNG")
+      throw InvalidInputError("-o '" + output + "': the output must be a .png file");
+    render::RenderOptions options;
+    parse_size(options);
+    const auto bgv = parse_numbers(bg, 3, "--bg");
+    for (const double c : bgv)
+      if (c < 0 || c > 1) throw InvalidInputError("--bg: each component must be in [0, 1], got '" + bg + "'");
+    options.background = Eigen::Vector3d(bgv[0], bgv[1], bgv[2]).cast<float>();
+    options.wireframe = wireframe;
+    render::validate(options);
+    if (!(fov > 0 && fov < 180)) throw InvalidInputError("--fov must be in (0, 180) degrees");
+    render::ModelSceneOptions scene_options;
+    scene_options.color = render::parse_color_mode(color, scene_options.joint);
+    scene_options.skinning = skinning;
+    scene_options.skeleton = skeleton;
+    std::optional<render::Camera> given;
+    if (!camera.empty()) {
+      const auto c = parse_numbers(camera, 9, "--camera");
+      given = render::Camera{{c[0], c[1], c[2]}, {c[3], c[4], c[5]}, {c[6], c[7], c[8]}, fov};
+      render::validate(*given);
+    }
+    const render::View named = render::parse_view(view.empty() ? "front" : view);
+    if (turntable < 0 || turntable > kMaxTurntable)
+      throw InvalidInputError("--turntable must be 0 to " + std::to_string(kMaxTurntable));
+    const int views = std::max(turntable, 1);
+    const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(views))));
+    const int rows = (views + columns - 1) / columns;
+    if (static_cast<long>(options.width) * columns > render::kMaxImageSide ||
+        static_cast<long>(options.height) * rows > render::kMaxImageSide)
+      throw InvalidInputError("--turntable " + std::to_string(turntable) + " at --size " + size +
+                              " makes a sheet larger than " + std::to_string(render::kMaxImageSide) + " pixels a side");
+
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<anim::RiggedModel> loaded;
+    loaded.reserve(models.size());
+    for (const std::string& path : models) loaded.push_back(io::load_model(path));
+    std::vector<render::ModelInstance> instances;
+    std::vector<std::string> warnings;
+    for (std::size_t i = 0; i < loaded.size(); ++i)
+      for (const std::string& w : loaded[i].warnings) warnings.push_back(models[i] + ": " + w);
+    for (const anim::RiggedModel& m : loaded) instances.push_back({&m, pose.pose(m)});
+    const render::Scene scene = render::model_scene(instances, scene_options, &warnings);
+    for (const std::string& w : warnings) std::cerr << "cgamesh: warning: " << w << "\n";
+    const auto scene_done = std::chrono::steady_clock::now();
+
+    const double aspect = static_cast<double>(options.width) / options.height;
+    const render::Box box = scene.bounds();
+    render::Camera cam = given ? (frame ? render::frame(box, *given, aspect) : *given)
+                               : render::frame(box, named, fov, aspect);
+    render::HeadlessContext context;
+    render::Renderer renderer;
+    std::vector<render::Image> images;
+    for (int k = 0; k < views; ++k)
+      images.push_back(renderer.render(scene, render::orbit(cam, 2 * std::numbers::pi * k / views), options));
+    const auto render_done = std::chrono::steady_clock::now();
+    render::write_png(views == 1 ? images.front() : render::contact_sheet(images, columns, options.background), output);
+
+    if (json) {
+      const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+      std::cout << Json({{"output", output},
+                         {"width", options.width * (views == 1 ? 1 : columns)},
+                         {"height", options.height * (views == 1 ? 1 : rows)},
+                         {"views", views},
+                         {"renderer", context.description()},
+                         {"camera", {{"eye", {cam.eye.x(), cam.eye.y(), cam.eye.z()}},
+                                     {"target", {cam.target.x(), cam.target.y(), cam.target.z()}},
+                                     {"up", {cam.up.x(), cam.up.y(), cam.up.z()}},
+                                     {"fov", cam.fov_degrees}}},
+                         {"milliseconds", {{"load_and_pose", ms(start, scene_done)},
+                                           {"render", ms(scene_done, render_done)}}},
+                         {"warnings", warnings}})
+                       .dump(2)
+                << "\n";
+    }
+  }
+};
+
+}  // namespace
+
+void add_render(CLI::App& app) {
+  auto o = std::make_shared<RenderCommand>();
+  CLI::App* sub = app.add_subcommand("render", "Render models to a PNG, headless (EGL; no display or GPU needed)");
+  sub->add_option("MODEL", o->models, "model files (several are drawn together, e.g. the pieces of a cut)")
+      ->required();
+  sub->add_option("-o,--output", o->output, "output .png")->required();
+  o->pose.add_to(*sub);
+  sub->add_option("--skinning", o->skinning, "skinning: cga, versor, matrix or dqs")
+      ->transform(CLI::CheckedTransformer(kSkinningModes, CLI::ignore_case));
+  sub->add_option("--color", o->color,
+                  "material | height | normal | joint:NAME (influence of one joint) | weights | piece | new (vertices "
+                  "made by surgery)")
+      ->capture_default_str();
+  sub->add_flag("--wireframe", o->wireframe, "draw the triangle edges");
+  sub->add_flag("--skeleton", o->skeleton, "draw the joints and bones over the mesh");
+  sub->add_option("--size", o->size, "picture size WIDTHxHEIGHT")->capture_default_str();
+  auto* view = sub->add_option("--view", o->view, "front, back, left, right, top or iso (default front)");
+  auto* camera = sub->add_option("--camera", o->camera, "EX,EY,EZ,TX,TY,TZ,UX,UY,UZ: eye, target and up (look-at)");
+  view->excludes(camera);
+  sub->add_option("--fov", o->fov, "vertical field of view in degrees")->capture_default_str();
+  sub->add_flag("--frame", o->frame, "fit the camera to the bounding box (the default without --camera)");
+  sub->add_option("--bg", o->bg, "background colour R,G,B in [0, 1]")->capture_default_str();
+  sub->add_option("--turntable", o->turntable, "N views around the model in one contact sheet");
+  sub->add_flag("--json", o->json, "print the picture's size, camera, renderer and timings");
+  sub->callback([o] { o->run(); });
+}
+
+}  // namespace cgamesh::cli

@@ -1,0 +1,129 @@
+#include "cgamesh/render/camera.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "cgamesh/errors.hpp"
+
+namespace cgamesh::render {
+namespace {
+
+struct ViewDirection {
+  Eigen::Vector3d from;  ///< direction from the target to the eye
+  Eigen::Vector3d up;
+};
+
+ViewDirection direction(View view) {
+  switch (view) {
+    case View::front: return {{0, 0, 1}, {0, 1, 0}};
+    case View::back: return {{0, 0, -1}, {0, 1, 0}};
+    case View::left: return {{-1, 0, 0}, {0, 1, 0}};
+    case View::right: return {{1, 0, 0}, {0, 1, 0}};
+    case View::top: return {{0, 1, 0}, {0, 0, -1}};
+    case View::iso: return {Eigen::Vector3d(1, 0.8, 1).normalized(), {0, 1, 0}};
+  }
+  return {{0, 0, 1}, {0, 1, 0}};
+}
+
+}  // namespace
+
+View parse_view(const std::string& name) {
+  if (name == "front") return View::front;
+  if (name == "back") return View::back;
+  if (name == "left") return View::left;
+  if (name == "right") return View::right;
+  if (name == "top") return View::top;
+  if (name == "iso") return View::iso;
+  throw InvalidInputError("view '" + name + "': expected front, back, left, right, top or iso");
+}
+
+void validate(const Camera& c) {
+  if (!c.eye.allFinite() || !c.target.allFinite() || !c.up.allFinite() || !std::isfinite(c.fov_degrees))
+    throw InvalidInputError("camera: every value must be finite");
+  const Eigen::Vector3d d = c.target - c.eye;
+  if (!(d.norm() > 0)) throw InvalidInputError("camera: the eye and the target are the same point");
+  if (!(c.up.norm() > 0)) throw InvalidInputError("camera: the up vector is zero");
+  if (!(d.normalized().cross(c.up.normalized()).norm() > 1e-6))
+    throw InvalidInputError("camera: the up vector is parallel to the viewing direction");
+  if (!(c.fov_degrees > 0 && c.fov_degrees < 180))
+    throw InvalidInputError("camera: the field of view must be in (0, 180) degrees, got " + std::to_string(c.fov_degrees));
+}
+
+Camera frame(const Box& box, const Camera& camera, double aspect) {
+  validate(camera);
+  if (box.empty() || !box.lo.allFinite() || !box.hi.allFinite()) throw InvalidInputError("frame: the box is empty");
+  if (!(aspect > 0) || !std::isfinite(aspect)) throw InvalidInputError("frame: the aspect must be > 0");
+  const double tan_v = std::tan(camera.fov_degrees * std::numbers::pi / 360.0), tan_h = tan_v * aspect;
+  // The eye backs off along the viewing direction until every corner of the box lies inside
+  // 92 % of both half-angles.
+  const Eigen::Vector3d back = (camera.eye - camera.target).normalized();
+  const Eigen::Vector3d side = camera.up.cross(back).normalized(), up = back.cross(side);
+  const Eigen::Vector3d c = box.centre();
+  double distance = 1e-9;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d corner((k & 1) ? box.hi.x() : box.lo.x(), (k & 2) ? box.hi.y() : box.lo.y(),
+                                 (k & 4) ? box.hi.z() : box.lo.z());
+    const Eigen::Vector3d d = corner - c;
+    const double toward = d.dot(back);
+    distance = std::max({distance, toward + std::abs(d.dot(side)) / (0.92 * tan_h),
+                         toward + std::abs(d.dot(up)) / (0.92 * tan_v)});
+  }
+  // Never inside the box.
+  distance = std::max(distance, 1.05 * box.diagonal() / 2);
+  return {c + distance * back, c, camera.up, camera.fov_degrees};
+}
+
+Camera frame(const Box& box, View view, double fov_degrees, double aspect) {
+  const ViewDirection dir = direction(view);
+  return frame(box, Camera{dir.from, Eigen::Vector3d::Zero(), dir.up, fov_degrees}, aspect);
+}
+
+Camera orbit(const Camera& camera, double radians) {
+  const Eigen::AngleAxisd turn(radians, camera.up.normalized());
+  Camera out = camera;
+  out.eye = camera.target + turn * (camera.eye - camera.target);
+  return out;
+}
+
+Eigen::Matrix4d view_matrix(const Camera& c) {
+  const Eigen::Vector3d f = (c.target - c.eye).normalized();
+  const Eigen::Vector3d s = f.cross(c.up).normalized();
+  const Eigen::Vector3d u = s.cross(f);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.row(0).head<3>() = s;
+  m.row(1).head<3>() = u;
+  m.row(2).head<3>() = -f;
+  m(0, 3) = -s.dot(c.eye);
+  m(1, 3) = -u.dot(c.eye);
+  m(2, 3) = f.dot(c.eye);
+  return m;
+}
+
+Eigen::Matrix4d projection_matrix(const Camera& c, double aspect, double near, double far) {
+  const double t = 1.0 / std::tan(c.fov_degrees * std::numbers::pi / 360.0);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (far + near) / (near - far);
+  m(2, 3) = 2 * far * near / (near - far);
+  m(3, 2) = -1;
+  return m;
+}
+
+void depth_range(const Camera& c, const Box& box, double& near, double& far) {
+  const Eigen::Vector3d f = (c.target - c.eye).normalized();
+  if (box.empty()) {
+    near = 0.01;
+    far = 100;
+    return;
+  }
+  const double centre = f.dot(box.centre() - c.eye), radius = box.diagonal() / 2;
+  far = std::max(centre + radius * 1.01, 1e-6);
+  // Near as far out as the box allows, but keep 1e-4 of far for depth precision.
+  near = std::max(centre - radius * 1.01, far * 1e-4);
+}
+
+}  // namespace cgamesh::render

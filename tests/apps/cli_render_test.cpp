@@ -1,0 +1,89 @@
+// `cgamesh render`: pictures of models and of surgery results, and every bad request refused.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <span>
+
+#include "apps/cli_util.hpp"
+#include "cgamesh/render/image.hpp"
+
+namespace {
+
+using namespace cgamesh_cli_test;
+
+fs::path cesium() { return fs::path(CGAMESH_DATA_DIR) / "CesiumMan.glb"; }
+
+cgamesh::render::Image read_png(const fs::path& p) {
+  const std::string bytes = read_file(p);
+  return cgamesh::render::decode_image(std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
+                                       p.string());
+}
+
+TEST(CliRender, WritesAPictureOfTheRequestedSize) {
+  TempDir dir;
+  const fs::path out = dir.path() / "man.png";
+  const Result r = run_ok(dir, {"render", cesium().string(), "-o", out.string(), "--anim", "0", "--time", "0.5",
+                                "--size", "200x150", "--view", "iso", "--json"});
+  const auto j = parse_json(r);
+  EXPECT_EQ(j["width"], 200);
+  EXPECT_EQ(j["height"], 150);
+  EXPECT_TRUE(contains(j["renderer"].get<std::string>(), "OpenGL")) << r;
+  const auto image = read_png(out);
+  EXPECT_EQ(image.width, 200);
+  EXPECT_EQ(image.height, 150);
+  // Something other than the white background is drawn.
+  long drawn = 0;
+  for (std::size_t i = 0; i < image.rgba.size(); i += 4) drawn += image.rgba[i] + image.rgba[i + 1] + image.rgba[i + 2] < 700;
+  EXPECT_GT(drawn, 500);
+}
+
+TEST(CliRender, TurntableMakesAContactSheetAndCutPiecesRenderTogether) {
+  TempDir dir;
+  const fs::path a = dir.path() / "a.glb", b = dir.path() / "b.glb", sheet = dir.path() / "sheet.png";
+  run_ok(dir, {"cut", cesium().string(), "--plane", "0,1,0,0.9", "--cap", "-o", a.string(), b.string()});
+  run_ok(dir, {"render", a.string(), b.string(), "-o", sheet.string(), "--color", "piece", "--turntable", "4", "--size",
+               "120x90", "--skeleton", "--wireframe", "--bg", "0.2,0.2,0.2"});
+  const auto image = read_png(sheet);
+  EXPECT_EQ(image.width, 240);
+  EXPECT_EQ(image.height, 180);
+  const fs::path fresh = dir.path() / "new.png";
+  run_ok(dir, {"render", a.string(), "-o", fresh.string(), "--color", "new", "--size", "160x120", "--camera",
+               "0,1,3,0,0.9,0,0,1,0", "--frame"});
+  EXPECT_TRUE(fs::exists(fresh));
+}
+
+TEST(CliRender, BadRequestsExitWithTheirCodeAndWriteNothing) {
+  Failure f;
+  const fs::path out = f.outputs / "out.png";
+  const std::string m = cesium().string();
+  expect_failure(f, {"render", (f.inputs / "missing.glb").string(), "-o", out.string()}, 3, "no such file", out);
+  { std::ofstream(f.inputs / "x.glb") << "not a model\n"; }
+  expect_failure(f, {"render", (f.inputs / "x.glb").string(), "-o", out.string()}, 3, "not a valid .glb", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--size", "0x100"}, 2, "--size", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--size", "100"}, 2, "WIDTHxHEIGHT", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--size", "100000x10"}, 2, "--size", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--camera", "1,1,1,1,1,1,0,1,0"}, 2, "same point", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--camera", "0,5,0,0,0,0,0,1,0"}, 2, "parallel", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--camera", "0,0,5,0,0,0"}, 2, "expected 9", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--camera", "nan,0,5,0,0,0,0,1,0"}, 2, "--camera", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--fov", "0"}, 2, "--fov", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--view", "side"}, 2, "view 'side'", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--bg", "2,0,0"}, 2, "--bg", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--color", "rainbow"}, 2, "colour 'rainbow'", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--color", "joint:nobody"}, 2, "unknown joint 'nobody'", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--turntable", "65"}, 2, "--turntable", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--turntable", "64", "--size", "4000x4000"}, 2, "sheet", out);
+  expect_failure(f, {"render", m, "-o", (f.outputs / "out.jpg").string()}, 2, ".png", f.outputs / "out.jpg");
+  expect_failure(f, {"render", m, "-o", out.string(), "--time", "-1"}, 2, "--time", out);
+}
+
+TEST(CliRender, NoEglIsExitOneNamingWhatFailed) {
+  Failure f;
+  const fs::path out = f.outputs / "out.png";
+  // glvnd finds no EGL vendor: no display can be made.
+  ::setenv("__EGL_VENDOR_LIBRARY_FILENAMES", (f.inputs.path() / "none.json").c_str(), 1);
+  expect_failure(f, {"render", cesium().string(), "-o", out.string()}, 1, "EGL", out);
+  ::unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+}
+
+}  // namespace

@@ -1,0 +1,136 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "anim/model_fixtures.hpp"
+#include "cgamesh/cga/geometry.hpp"
+#include "cgamesh/errors.hpp"
+#include "cgamesh/io/gltf_writer.hpp"
+#include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/render/model_scene.hpp"
+#include "cgamesh/surgery/cut.hpp"
+#include "cgamesh/surgery/placement.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+
+namespace render = cgamesh::render;
+namespace anim = cgamesh::anim;
+namespace surgery = cgamesh::surgery;
+
+render::Scene scene_of(const anim::RiggedModel& model, const render::ModelSceneOptions& o, std::vector<std::string>* w = nullptr) {
+  const render::ModelInstance in{&model, anim::rest_pose(model.skeleton)};
+  return render::model_scene(std::span(&in, 1), o, w);
+}
+
+bool near(const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return (a - b).norm() < 1e-5f; }
+
+TEST(ModelScene, ColourModesFollowTheirData) {
+  const auto model = cgamesh::io::load_model(cgamesh_test::demo_model());
+  const cgamesh::mesh::Mesh& m = model.meshes[0];
+  const int j = m.skin.palette[m.skin.joints(0, 0)];
+  render::ModelSceneOptions o;
+  o.color = render::ColorMode::joint;
+  o.joint = model.skeleton.names()[static_cast<std::size_t>(j)];
+  const render::Scene s = scene_of(model, o);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
+    float w = 0;
+    for (int k = 0; k < 4; ++k)
+      if (m.skin.palette[m.skin.joints(v, k)] == j) w += m.skin.weights(v, k);
+    ASSERT_TRUE(near(s.meshes[0].colors.row(v).transpose(), render::heat_color(w))) << v;
+  }
+  o.color = render::ColorMode::height;
+  const render::Scene h = scene_of(model, o);
+  Eigen::Index top = 0, bottom = 0;
+  h.meshes[0].positions.col(1).maxCoeff(&top);
+  h.meshes[0].positions.col(1).minCoeff(&bottom);
+  EXPECT_TRUE(near(h.meshes[0].colors.row(top).transpose(), render::heat_color(1)));
+  EXPECT_TRUE(near(h.meshes[0].colors.row(bottom).transpose(), render::heat_color(0)));
+  o.color = render::ColorMode::normal;
+  const render::Scene n = scene_of(model, o);
+  EXPECT_TRUE(n.meshes[0].colors.isApprox(((n.meshes[0].normals.array() + 1) / 2).matrix()));
+}
+
+TEST(ModelScene, MaterialModeUsesTheBaseColourTexture) {
+  const auto model = cgamesh::io::load_model(cgamesh_test::demo_model());
+  // CesiumMan has one textured material (Assimp adds a default one after it).
+  ASSERT_EQ(model.textures.size(), 1u);
+  ASSERT_GE(model.meshes[0].material, 0);
+  ASSERT_LT(model.meshes[0].material, static_cast<int>(model.materials.size()));
+  EXPECT_EQ(model.materials[static_cast<std::size_t>(model.meshes[0].material)].base_color_texture, 0);
+  EXPECT_EQ(model.textures[0].mime_type, "image/jpeg");
+  std::vector<std::string> warnings;
+  const render::Scene s = scene_of(model, {}, &warnings);
+  EXPECT_TRUE(warnings.empty());
+  ASSERT_TRUE(s.meshes[0].texture);
+  EXPECT_GT(s.meshes[0].texture->width, 0);
+  EXPECT_EQ(s.meshes[0].uvs.rows(), model.meshes[0].vertex_count());
+  // A texture that does not decode is a warning, and the mesh is drawn without it.
+  auto broken = model;
+  broken.textures[0].bytes.assign(10, 7);
+  const render::Scene b = scene_of(broken, {}, &warnings);
+  EXPECT_FALSE(b.meshes[0].texture);
+  ASSERT_EQ(warnings.size(), 1u) << warnings.back();
+}
+
+TEST(ModelScene, PiecesAndNewVerticesOfACutSurviveAGltfRoundTrip) {
+  const auto model = cgamesh::io::load_model(cgamesh_test::demo_model());
+  const auto placement = surgery::place(model, anim::rest_pose(model.skeleton));
+  const surgery::ModelCut c = surgery::cut(model, placement, cgamesh::cga::plane<double>({0, 1, 0}, 0.9));
+  cgamesh_test::TempDir dir;
+  std::vector<anim::RiggedModel> read;
+  for (int p = 0; p < 2; ++p) {
+    const auto& mesh = c.pieces[static_cast<std::size_t>(p)].meshes[0];
+    const auto& origins = c.origins[static_cast<std::size_t>(p)][0];
+    ASSERT_EQ(mesh.generated.rows(), mesh.vertex_count());
+    for (std::size_t v = 0; v < origins.size(); ++v)
+      ASSERT_EQ(mesh.generated[static_cast<Eigen::Index>(v)], origins[v].count() > 1 ? 1 : 0) << v;
+    const auto path = dir.path() / ("piece" + std::to_string(p) + ".glb");
+    static_cast<void>(cgamesh::io::write_gltf(c.pieces[static_cast<std::size_t>(p)], path));
+    read.push_back(cgamesh::io::load_model(path));
+    EXPECT_EQ(read.back().meshes[0].generated, mesh.generated) << "piece " << p;
+  }
+  std::vector<render::ModelInstance> both;
+  for (const auto& r : read) both.push_back({&r, anim::rest_pose(r.skeleton)});
+  render::ModelSceneOptions o;
+  o.color = render::ColorMode::piece;
+  const render::Scene s = render::model_scene(both, o);
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_FALSE(near(s.meshes[0].colors.row(0).transpose(), s.meshes[1].colors.row(0).transpose()));
+  o.color = render::ColorMode::generated;
+  const render::Scene g = render::model_scene(both, o);
+  std::set<std::array<float, 3>> colours;
+  for (Eigen::Index v = 0; v < g.meshes[0].colors.rows(); ++v)
+    colours.insert({g.meshes[0].colors(v, 0), g.meshes[0].colors(v, 1), g.meshes[0].colors(v, 2)});
+  EXPECT_EQ(colours.size(), 2u) << "new and old vertices should take two colours";
+}
+
+TEST(ModelScene, SkeletonOverlayHasAJointPerSkinJoint) {
+  const auto model = cgamesh::io::load_model(cgamesh_test::demo_model());
+  render::ModelSceneOptions o;
+  o.skeleton = true;
+  const render::Scene s = scene_of(model, o);
+  ASSERT_FALSE(s.points.empty());
+  EXPECT_EQ(s.points.back().points.size(), model.meshes[0].skin.palette.size());
+  ASSERT_FALSE(s.lines.empty());
+  EXPECT_GT(s.lines.back().points.size(), 10u);
+}
+
+TEST(ModelScene, BadRequestsAreErrors) {
+  const auto model = cgamesh::io::load_model(cgamesh_test::demo_model());
+  render::ModelSceneOptions o;
+  o.color = render::ColorMode::joint;
+  o.joint = "no such joint";
+  EXPECT_THROW(static_cast<void>(scene_of(model, o)), cgamesh::InvalidInputError);
+  const render::ModelInstance null{nullptr, {}};
+  EXPECT_THROW(static_cast<void>(render::model_scene(std::span(&null, 1), {})), cgamesh::InvalidInputError);
+  std::string joint;
+  EXPECT_EQ(render::parse_color_mode("joint:hip", joint), render::ColorMode::joint);
+  EXPECT_EQ(joint, "hip");
+  EXPECT_EQ(render::parse_color_mode("new", joint), render::ColorMode::generated);
+  EXPECT_THROW(static_cast<void>(render::parse_color_mode("joint:", joint)), cgamesh::InvalidInputError);
+  EXPECT_THROW(static_cast<void>(render::parse_color_mode("rainbow", joint)), cgamesh::InvalidInputError);
+}
+
+}  // namespace
