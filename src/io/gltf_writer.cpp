@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <new>
 #include <set>
 #include <sstream>
@@ -221,14 +222,19 @@ class Builder {
     prim.attributes["POSITION"] = add_float_accessor(m.positions.data(), static_cast<std::size_t>(nv), 3,
                                                      TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
     if (m.normals.rows() == nv) add_normals(m, prim, label);
-    if (m.uvs.rows() == nv)
-      prim.attributes["TEXCOORD_0"] = add_float_accessor(m.uvs.data(), static_cast<std::size_t>(nv), 2,
+    if (m.uvs.rows() == nv) {
+      // glTF's v runs down the image; Mesh::uvs follow OpenGL (v up), as Assimp loads them.
+      mesh::RowMatrixXf<2> uv = m.uvs;
+      uv.col(1) = (1.0f - uv.col(1).array()).matrix();
+      prim.attributes["TEXCOORD_0"] = add_float_accessor(uv.data(), static_cast<std::size_t>(nv), 2,
                                                          TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+    }
     if (m.generated.rows() == nv && (m.generated.array() != 0).any()) {
       const std::vector<float> flags(m.generated.data(), m.generated.data() + nv);
       prim.attributes[detail::kGeneratedAttribute] = add_float_accessor(
           flags.data(), static_cast<std::size_t>(nv), 1, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER, false);
     }
+    prim.material = material_of(m);
     int skin = -1;
     if (!m.skin.empty()) skin = add_skin(m, prim, label);
     prim.indices = add_indices(m);
@@ -255,6 +261,54 @@ class Builder {
       auto& children = gm_.nodes[m.node].children;
       children.insert(children.begin() + static_children_[m.node]++, node_index);
     }
+  }
+
+  // ---- materials ----------------------------------------------------------------------------
+
+  /// The glTF material of `m`, written once; -1 without one. Only materials that meshes use are
+  /// written, so load → write cycles do not gather the loader's default material.
+  int material_of(const mesh::Mesh& m) {
+    if (m.material < 0 || m.material >= static_cast<int>(model_.materials.size())) return -1;
+    const auto [it, added] = material_index_.try_emplace(m.material, static_cast<int>(gm_.materials.size()));
+    if (!added) return it->second;
+    const mesh::Material& in = model_.materials[static_cast<std::size_t>(m.material)];
+    tinygltf::Material out;
+    out.name = in.name;
+    // glTF factors lie in [0, 1].
+    const auto unit = [](float v) { return std::isfinite(v) ? std::clamp(static_cast<double>(v), 0.0, 1.0) : 1.0; };
+    out.pbrMetallicRoughness.baseColorFactor = {unit(in.base_color.x()), unit(in.base_color.y()),
+                                                unit(in.base_color.z()), unit(in.base_color.w())};
+    out.pbrMetallicRoughness.metallicFactor = unit(in.metallic);
+    out.pbrMetallicRoughness.roughnessFactor = unit(in.roughness);
+    out.doubleSided = in.double_sided;
+    out.pbrMetallicRoughness.baseColorTexture.index = texture_of(in.base_color_texture, in.name);
+    gm_.materials.push_back(std::move(out));
+    return it->second;
+  }
+
+  /// The glTF texture of model texture `t`, its image embedded in the buffer; -1 (with a
+  /// warning) for an image whose type glTF does not take.
+  int texture_of(int t, const std::string& material) {
+    if (t < 0 || t >= static_cast<int>(model_.textures.size())) return -1;
+    const auto [it, added] = texture_index_.try_emplace(t, -1);
+    if (!added) return it->second;
+    const mesh::TextureImage& in = model_.textures[static_cast<std::size_t>(t)];
+    if ((in.mime_type != "image/png" && in.mime_type != "image/jpeg") || in.bytes.empty()) {
+      warnings_.push_back("material '" + material + "': texture '" + in.name +
+                          "' is not PNG or JPEG; written without it");
+      return -1;
+    }
+    const std::size_t begin = begin_view();
+    data().insert(data().end(), in.bytes.begin(), in.bytes.end());
+    tinygltf::Image image;
+    image.name = in.name;
+    image.mimeType = in.mime_type;
+    image.bufferView = end_view(begin, 0, 0);
+    gm_.images.push_back(std::move(image));
+    tinygltf::Texture texture;
+    texture.source = static_cast<int>(gm_.images.size()) - 1;
+    gm_.textures.push_back(std::move(texture));
+    return it->second = static_cast<int>(gm_.textures.size()) - 1;
   }
 
   void add_normals(const mesh::Mesh& m, tinygltf::Primitive& prim, const std::string& label) {
@@ -473,6 +527,7 @@ class Builder {
     a.channels.push_back(std::move(channel));
   }
 
+  std::map<int, int> material_index_, texture_index_;  // model index -> glTF index
   const anim::RiggedModel& model_;
   std::vector<std::string>& warnings_;
   tinygltf::Model gm_;

@@ -164,6 +164,9 @@ class Loader {
         m.base_color.setOnes();
       }
     }
+    ai_real factor = 0;
+    if (in.Get(AI_MATKEY_METALLIC_FACTOR, factor) == AI_SUCCESS && std::isfinite(factor)) m.metallic = factor;
+    if (in.Get(AI_MATKEY_ROUGHNESS_FACTOR, factor) == AI_SUCCESS && std::isfinite(factor)) m.roughness = factor;
     int two_sided = 0;
     if (in.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) m.double_sided = two_sided != 0;
     aiString path;

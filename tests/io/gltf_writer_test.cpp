@@ -346,8 +346,11 @@ void check_model(const tinygltf::Model& g, const RiggedModel& model) {
     }
     if (src.uvs.rows() > 0) {
       const auto uv = read<float>(g, p.attributes.at("TEXCOORD_0"));
-      for (Eigen::Index v = 0; v < nv; ++v)
-        for (int c = 0; c < 2; ++c) ASSERT_EQ(uv[2 * v + c], src.uvs(v, c));
+      // glTF's v runs down the image: the file holds (u, 1 − v) of the OpenGL-style Mesh::uvs.
+      for (Eigen::Index v = 0; v < nv; ++v) {
+        ASSERT_EQ(uv[2 * v], src.uvs(v, 0));
+        ASSERT_EQ(uv[2 * v + 1], 1.0f - src.uvs(v, 1));
+      }
     }
     if (!src.skin.empty()) {
       const tinygltf::Accessor& ja = g.accessors[p.attributes.at("JOINTS_0")];

@@ -102,6 +102,20 @@ void expect_round_trip(const anim::RiggedModel& a, const anim::RiggedModel& b) {
     EXPECT_EQ(a.meshes[i].skin.empty(), b.meshes[i].skin.empty());
     EXPECT_EQ(a.meshes[i].normals.rows(), b.meshes[i].normals.rows());
     EXPECT_EQ(a.meshes[i].uvs.rows(), b.meshes[i].uvs.rows());
+    if (a.meshes[i].uvs.rows() == b.meshes[i].uvs.rows()) {
+      EXPECT_TRUE(a.meshes[i].uvs.isApprox(b.meshes[i].uvs, 1e-6f)) << "texture coordinates differ";
+    }
+    // The material: base colour factor and the texture's bytes as the file had them.
+    const int ma = a.meshes[i].material, mb = b.meshes[i].material;
+    if (ma < 0) continue;
+    ASSERT_GE(mb, 0) << "the material is lost";
+    const mesh::Material &fa = a.materials[static_cast<std::size_t>(ma)], &fb = b.materials[static_cast<std::size_t>(mb)];
+    EXPECT_TRUE(fa.base_color.isApprox(fb.base_color, 1e-6f)) << fa.base_color.transpose() << " vs " << fb.base_color.transpose();
+    EXPECT_EQ(fa.base_color_texture >= 0, fb.base_color_texture >= 0);
+    if (fa.base_color_texture >= 0 && fb.base_color_texture >= 0) {
+      EXPECT_EQ(a.textures[static_cast<std::size_t>(fa.base_color_texture)].bytes,
+                b.textures[static_cast<std::size_t>(fb.base_color_texture)].bytes);
+    }
   }
   expect_same_positions(a, anim::rest_pose(a.skeleton), b, anim::rest_pose(b.skeleton), "rest pose");
 

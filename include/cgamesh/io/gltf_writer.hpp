@@ -37,6 +37,9 @@ struct GltfWriteOptions {
 ///    (without transform; static meshes come first among its children, in model order, so a
 ///    depth-first reader such as load_model() meets them in the model's order), or a scene root
 ///    when `mesh.node` is -1.
+///  - the materials that meshes use (base colour factor and texture, metallic and roughness
+///    factors, double-sidedness), each PNG or JPEG texture's image embedded in the buffer (a
+///    texture of another type is dropped with a warning).
 ///  - one animation per clip that has a non-empty channel; one sampler per non-empty channel
 ///    (FLOAT times with min/max; VEC3/VEC4 outputs in the glTF layout, rotations renormalised).
 ///    A CUBICSPLINE channel with a single key is written as STEP (with a warning).

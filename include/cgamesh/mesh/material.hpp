@@ -23,6 +23,9 @@ struct Material {
   std::string name;
   Eigen::Vector4f base_color{1, 1, 1, 1};  ///< linear RGBA factor (glTF baseColorFactor, or the diffuse colour)
   int base_color_texture = -1;             ///< index into RiggedModel::textures, or -1
+  /// glTF metallic and roughness factors; formats without them give a dielectric (0, 1).
+  float metallic = 0;
+  float roughness = 1;
   bool double_sided = false;
 };
 

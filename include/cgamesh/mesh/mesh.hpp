@@ -39,7 +39,7 @@ struct Mesh {
   std::string name;
   RowMatrixXf<3> positions;  ///< #V x 3 rest (bind-pose) positions in mesh space
   RowMatrixXf<3> normals;    ///< #V x 3 unit normals, or 0 rows
-  RowMatrixXf<2> uvs;        ///< #V x 2 texture coordinates (set 0), or 0 rows
+  RowMatrixXf<2> uvs;        ///< #V x 2 texture coordinates (set 0; OpenGL's v = 0 at the image bottom), or 0 rows
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces;  ///< #F x 3 vertex indices
   /// #V 1 where an operation made the vertex (a point on an old edge or face: cut, tear, drill,
   /// subdivision), 0 where it comes from the file or is a copy of such a vertex; 0 rows when
