@@ -43,20 +43,23 @@ done
 # dilation 0.5; wrist: rotation by 0.3 rad) and Fig. 5B after the tear (elbow −1 rad and wrist
 # +1 rad about y), coloured by the influence of the elbow, the joint most deformed.
 elbow="nodes[14]" wrist="nodes[15]"
-render=("$cli" render --size 960x720)
+render=("$cli" render --size "${CGAMESH_PICTURE_SIZE:-960x720}")
 "${render[@]}" "$model" --anim 0 --time 0.5 --view right -o out/cesium_posed.png
 "${render[@]}" "$model" --anim 0 --time 0.5 --view right --color "joint:$elbow" --skeleton -o out/cesium_joint.png
-"${render[@]}" out/cesium_upper.glb out/cesium_lower.glb --anim 0 --time 0.5 --view iso --color height --wireframe \
-  -o out/cesium_cut.png
-"${render[@]}" out/cesium_upper.glb out/cesium_lower.glb --anim 0 --time 0.5 --view iso --color "joint:$elbow" \
+"${render[@]}" out/cesium_upper.glb out/cesium_lower.glb --anim 0 --time 0.5 --view front --color piece -o out/cesium_cut.png
+"${render[@]}" out/cesium_lower.glb --anim 0 --time 0.5 --camera 0.5,1.6,0.9,0,0.8,0,0,1,0 --frame --color new --wireframe \
+  -o out/cesium_cut_cap.png
+"${render[@]}" out/cesium_upper.glb out/cesium_lower.glb --anim 0 --time 0.5 --view front --color "joint:$elbow" \
   --set "$elbow:rotate=0,1,1,40.1" --set "$elbow:translate=0.1,0,0" --set "$elbow:scale=0.5" \
   --set "$wrist:rotate=0,1,1,17.2" -o out/cesium_cut_reposed.png
-"${render[@]}" out/cesium_torn.glb --anim 0 --time 0.5 --view front --color new --wireframe -o out/cesium_torn.png
+"${render[@]}" out/cesium_torn.glb --anim 0 --time 0.5 --camera 0.1,1.0,0.5,0.0,0.93,0.05,0,1,0 --fov 30 --color new \
+  --wireframe -o out/cesium_torn.png
 "${render[@]}" out/cesium_torn.glb --anim 0 --time 0.5 --view front --color "joint:$elbow" \
   --set "$elbow:rotate=0,1,0,-57.3" --set "$wrist:rotate=0,1,0,57.3" -o out/cesium_torn_reposed.png
 "${render[@]}" out/cesium_drilled.glb --anim 0 --time 0.5 --camera 0.6,1.1,1.6,0.01,0.9,0,0,1,0 --frame \
   -o out/cesium_drilled.png
 for spec in cesiumman_bend cesiumman_handles cesiumman_ik; do
-  "${render[@]}" out/$spec.obj --view right --color height -o out/$spec.png
+  # The deformation works in mesh space, where CesiumMan stands along +z.
+  "${render[@]}" out/$spec.obj --camera 1,0.4,0.75,0,0,0.75,0,0,1 --frame -o out/$spec.png
 done
 echo "demo: pictures in out/*.png"

@@ -30,11 +30,12 @@ struct HeadlessContext::State {
   EGLDisplay display = EGL_NO_DISPLAY;
   EGLContext context = EGL_NO_CONTEXT;
 
+  // The display stays initialised: an EGL display is one per process, shared by every context
+  // made on it, and eglTerminate would unload the driver that the next context loads again.
   ~State() {
     if (display == EGL_NO_DISPLAY) return;
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-    eglTerminate(display);
   }
 };
 

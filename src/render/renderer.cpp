@@ -4,7 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -75,13 +76,28 @@ void main() {
 }
 )";
 
-constexpr const char* kMeshFragment = R"(#version 330 core
+// The fragment shader follows the geometry shader (wireframe), or the vertex shader directly:
+// then the face normal comes from screen-space derivatives, which is much faster on llvmpipe.
+constexpr const char* kMeshFragment = R"(
+#ifdef WITH_GEOMETRY
 in vec3 f_world;
 in vec3 f_normal;
 in vec3 f_color;
 in vec2 f_uv;
 flat in vec3 f_face_normal;
 noperspective in vec3 f_edge_distance;
+#else
+in vec3 vg_world;
+in vec3 vg_normal;
+in vec3 vg_color;
+in vec2 vg_uv;
+#define f_world vg_world
+#define f_normal vg_normal
+#define f_color vg_color
+#define f_uv vg_uv
+#define f_face_normal ((gl_FrontFacing ? 1.0 : -1.0) * cross(dFdx(vg_world), dFdy(vg_world)))
+#define f_edge_distance vec3(1e6)
+#endif
 uniform vec3 u_eye;
 uniform vec3 u_light;
 uniform vec4 u_base_color;
@@ -157,7 +173,10 @@ void main() {
 
 GLuint compile(GLenum type, const char* source) {
   const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &source, nullptr);
+  // Sources that start with a newline get the version line and, after a geometry stage, its define.
+  const std::string text = source[0] == '\n' ? std::string("#version 330 core") + source : source;
+  const char* c = text.c_str();
+  glShaderSource(s, 1, &c, nullptr);
   glCompileShader(s);
   GLint ok = 0;
   glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
@@ -173,9 +192,15 @@ GLuint compile(GLenum type, const char* source) {
 GLuint link(std::initializer_list<std::pair<GLenum, const char*>> stages) {
   const GLuint p = glCreateProgram();
   std::vector<GLuint> shaders;
-  for (const auto& [type, source] : stages) {
-    shaders.push_back(compile(type, source));
-    glAttachShader(p, shaders.back());
+  try {
+    for (const auto& [type, source] : stages) {
+      shaders.push_back(compile(type, source));
+      glAttachShader(p, shaders.back());
+    }
+  } catch (const PlatformError&) {
+    for (const GLuint s : shaders) glDeleteShader(s);
+    glDeleteProgram(p);
+    throw;
   }
   glLinkProgram(p);
   for (const GLuint s : shaders) glDeleteShader(s);
@@ -258,15 +283,46 @@ void validate(const RenderOptions& o) {
 }
 
 struct Renderer::State {
-  GLuint mesh_program = 0, line_program = 0, point_program = 0;
+  GLuint mesh_program = 0, wire_program = 0, line_program = 0, point_program = 0;
   GLuint vao = 0;
   std::vector<GLuint> buffers;  // positions, normals, colours, uvs, indices: reused between draws
+  /// Textures uploaded once per image, while the image lives (a viewer redraws every frame).
+  std::vector<std::pair<std::weak_ptr<const Image>, GLuint>> textures;
 
   ~State() {
+    for (const auto& [image, id] : textures) glDeleteTextures(1, &id);
     if (!buffers.empty()) glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
     if (vao) glDeleteVertexArrays(1, &vao);
-    for (const GLuint p : {mesh_program, line_program, point_program})
+    for (const GLuint p : {mesh_program, wire_program, line_program, point_program})
       if (p) glDeleteProgram(p);
+  }
+
+  /// The texture of `image`, uploaded (with mipmaps) the first time it is drawn.
+  GLuint texture(const std::shared_ptr<const Image>& image) {
+    std::erase_if(textures, [](const auto& t) {
+      if (!t.first.expired()) return false;
+      glDeleteTextures(1, &t.second);
+      return true;
+    });
+    for (const auto& [known, id] : textures)
+      if (known.lock() == image) return id;
+    GLuint id = 0;
+    glGenTextures(1, &id);
+    glBindTexture(GL_TEXTURE_2D, id);
+    // Image rows are top first; OpenGL's v = 0 is the bottom row.
+    std::vector<std::uint8_t> flipped(image->rgba.size());
+    const std::size_t row = static_cast<std::size_t>(image->width) * 4;
+    for (int y = 0; y < image->height; ++y)
+      std::copy_n(image->pixel(0, y), row, flipped.data() + row * static_cast<std::size_t>(image->height - 1 - y));
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image->width, image->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, flipped.data());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    textures.emplace_back(image, id);
+    return id;
   }
 
   GLint uniform(GLuint program, const char* name) const { return glGetUniformLocation(program, name); }
@@ -289,7 +345,10 @@ Renderer::Renderer() {
                                                    std::to_string(epoxy_gl_version() / 10) + "." +
                                                    std::to_string(epoxy_gl_version() % 10));
   state_ = std::make_unique<State>();
-  state_->mesh_program = link({{GL_VERTEX_SHADER, kMeshVertex}, {GL_GEOMETRY_SHADER, kMeshGeometry}, {GL_FRAGMENT_SHADER, kMeshFragment}});
+  const std::string wire_fragment = std::string("\n#define WITH_GEOMETRY") + kMeshFragment;
+  state_->mesh_program = link({{GL_VERTEX_SHADER, kMeshVertex}, {GL_FRAGMENT_SHADER, kMeshFragment}});
+  state_->wire_program = link({{GL_VERTEX_SHADER, kMeshVertex}, {GL_GEOMETRY_SHADER, kMeshGeometry},
+                               {GL_FRAGMENT_SHADER, wire_fragment.c_str()}});
   state_->line_program = link({{GL_VERTEX_SHADER, kOverlayVertex}, {GL_GEOMETRY_SHADER, kLineGeometry}, {GL_FRAGMENT_SHADER, kOverlayFragment}});
   state_->point_program = link({{GL_VERTEX_SHADER, kOverlayVertex}, {GL_FRAGMENT_SHADER, kOverlayFragment}});
   glGenVertexArrays(1, &state_->vao);
@@ -319,7 +378,7 @@ void Renderer::draw(const Scene& scene, const Camera& camera, const RenderOption
   glDisable(GL_CULL_FACE);
   glBindVertexArray(s.vao);
 
-  const GLuint mp = s.mesh_program;
+  const GLuint mp = o.wireframe ? s.wire_program : s.mesh_program;
   glUseProgram(mp);
   glUniformMatrix4fv(s.uniform(mp, "u_view_projection"), 1, GL_FALSE, vp.data());
   glUniform2f(s.uniform(mp, "u_viewport"), static_cast<float>(o.width), static_cast<float>(o.height));
@@ -337,24 +396,9 @@ void Renderer::draw(const Scene& scene, const Camera& camera, const RenderOption
     s.attribute(2, 3, m.colors.data(), m.colors.rows(), 1);
     const bool textured = m.texture && m.uvs.rows() > 0;
     s.attribute(3, 2, m.uvs.data(), textured ? m.uvs.rows() : 0, 0);
-    GLuint texture = 0;
     if (textured) {
       glActiveTexture(GL_TEXTURE0);
-      glGenTextures(1, &texture);
-      glBindTexture(GL_TEXTURE_2D, texture);
-      // Image rows are top first; OpenGL's v = 0 is the bottom row.
-      std::vector<std::uint8_t> flipped(m.texture->rgba.size());
-      const std::size_t row = static_cast<std::size_t>(m.texture->width) * 4;
-      for (int y = 0; y < m.texture->height; ++y)
-        std::copy_n(m.texture->pixel(0, y), row, flipped.data() + row * static_cast<std::size_t>(m.texture->height - 1 - y));
-      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, m.texture->width, m.texture->height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                   flipped.data());
-      glGenerateMipmap(GL_TEXTURE_2D);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+      glBindTexture(GL_TEXTURE_2D, s.texture(m.texture));
     }
     glUniform4fv(s.uniform(mp, "u_base_color"), 1, m.base_color.data());
     glUniform1i(s.uniform(mp, "u_smooth"), m.normals.rows() > 0 ? 1 : 0);
@@ -364,7 +408,6 @@ void Renderer::draw(const Scene& scene, const Camera& camera, const RenderOption
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(m.faces.size() * sizeof(int)), m.faces.data(),
                  GL_STREAM_DRAW);
     glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m.faces.size()), GL_UNSIGNED_INT, nullptr);
-    if (texture) glDeleteTextures(1, &texture);
   }
   for (GLuint a = 1; a < 4; ++a) glDisableVertexAttribArray(a);
 
