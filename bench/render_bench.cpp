@@ -1,9 +1,9 @@
 // One 1280×960 picture (upload, draw with 4× multisampling, read back) of CesiumMan and of
 // CesiumMan subdivided to over a million faces, on whatever EGL gives (llvmpipe without a GPU).
-#include <benchmark/benchmark.h>
-
 #include <memory>
 #include <string>
+
+#include <benchmark/benchmark.h>
 
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/io/model_loader.hpp"

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "cgamesh/render/headless_context.hpp"
 #include "cgamesh/render/model_scene.hpp"
 #include "cgamesh/render/renderer.hpp"
+
 #include "cli_common.hpp"
 
 namespace cgamesh::cli {
@@ -108,8 +110,8 @@ struct RenderCommand {
 
     const double aspect = static_cast<double>(options.width) / options.height;
     const render::Box box = scene.bounds();
-    render::Camera cam = given ? (frame ? render::frame(box, *given, aspect) : *given)
-                               : render::frame(box, named, fov, aspect);
+    render::Camera cam =
+        given ? (frame ? render::frame(box, *given, aspect) : *given) : render::frame(box, named, fov, aspect);
     render::HeadlessContext context;
     render::Renderer renderer;
     std::vector<render::Image> images;
@@ -125,12 +127,13 @@ struct RenderCommand {
                          {"height", options.height * (views == 1 ? 1 : rows)},
                          {"views", views},
                          {"renderer", context.description()},
-                         {"camera", {{"eye", {cam.eye.x(), cam.eye.y(), cam.eye.z()}},
-                                     {"target", {cam.target.x(), cam.target.y(), cam.target.z()}},
-                                     {"up", {cam.up.x(), cam.up.y(), cam.up.z()}},
-                                     {"fov", cam.fov_degrees}}},
-                         {"milliseconds", {{"load_and_pose", ms(start, scene_done)},
-                                           {"render", ms(scene_done, render_done)}}},
+                         {"camera",
+                          {{"eye", {cam.eye.x(), cam.eye.y(), cam.eye.z()}},
+                           {"target", {cam.target.x(), cam.target.y(), cam.target.z()}},
+                           {"up", {cam.up.x(), cam.up.y(), cam.up.z()}},
+                           {"fov", cam.fov_degrees}}},
+                         {"milliseconds",
+                          {{"load_and_pose", ms(start, scene_done)}, {"render", ms(scene_done, render_done)}}},
                          {"warnings", warnings}})
                        .dump(2)
                 << "\n";
@@ -143,8 +146,7 @@ struct RenderCommand {
 void add_render(CLI::App& app) {
   auto o = std::make_shared<RenderCommand>();
   CLI::App* sub = app.add_subcommand("render", "Render models to a PNG, headless (EGL; no display or GPU needed)");
-  sub->add_option("MODEL", o->models, "model files (several are drawn together, e.g. the pieces of a cut)")
-      ->required();
+  sub->add_option("MODEL", o->models, "model files (several are drawn together, e.g. the pieces of a cut)")->required();
   sub->add_option("-o,--output", o->output, "output .png")->required();
   o->pose.add_to(*sub);
   sub->add_option("--skinning", o->skinning, "skinning: cga, versor, matrix or dqs")

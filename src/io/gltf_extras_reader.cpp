@@ -54,12 +54,18 @@ class AccessorView {
   [[nodiscard]] double get(std::size_t i, int c) const {
     const unsigned char* p = data_ + offset_ + i * stride_ + static_cast<std::size_t>(c * size_);
     switch (type_) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: return read<float>(p, 1.0);
-      case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(read<std::int8_t>(p, 127.0), -1.0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return read<std::uint8_t>(p, 255.0);
-      case TINYGLTF_COMPONENT_TYPE_SHORT: return std::max(read<std::int16_t>(p, 32767.0), -1.0);
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return read<std::uint16_t>(p, 65535.0);
-      default: throw FileError("animation accessor of unsupported component type " + std::to_string(type_));
+      case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return read<float>(p, 1.0);
+      case TINYGLTF_COMPONENT_TYPE_BYTE:
+        return std::max(read<std::int8_t>(p, 127.0), -1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return read<std::uint8_t>(p, 255.0);
+      case TINYGLTF_COMPONENT_TYPE_SHORT:
+        return std::max(read<std::int16_t>(p, 32767.0), -1.0);
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return read<std::uint16_t>(p, 65535.0);
+      default:
+        throw FileError("animation accessor of unsupported component type " + std::to_string(type_));
     }
   }
 
@@ -118,10 +124,10 @@ void read_sampler(const tinygltf::Model& model, const tinygltf::AnimationSampler
 
 std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
 }
-
 
 /// The clips of the file, channels bound to `skeleton` joints by node name (or Assimp's
 /// "nodes[i]" for unnamed nodes), with times, values and interpolation as the file stores them
@@ -141,7 +147,8 @@ std::vector<anim::Clip> read_gltf_clips(const tinygltf::Model& model, const anim
       if (target.target_node < 0 || target.target_node >= static_cast<int>(model.nodes.size()))
         throw FileError(what + " targets no node");
       const std::size_t node = static_cast<std::size_t>(target.target_node);
-      const std::string name = model.nodes[node].name.empty() ? "nodes[" + std::to_string(node) + "]" : model.nodes[node].name;
+      const std::string name =
+          model.nodes[node].name.empty() ? "nodes[" + std::to_string(node) + "]" : model.nodes[node].name;
       Channel ch;
       ch.joint = skeleton.find(name);
       ch.path = *path_kind;

@@ -18,12 +18,18 @@ struct ViewDirection {
 
 ViewDirection direction(View view) {
   switch (view) {
-    case View::front: return {{0, 0, 1}, {0, 1, 0}};
-    case View::back: return {{0, 0, -1}, {0, 1, 0}};
-    case View::left: return {{-1, 0, 0}, {0, 1, 0}};
-    case View::right: return {{1, 0, 0}, {0, 1, 0}};
-    case View::top: return {{0, 1, 0}, {0, 0, -1}};
-    case View::iso: return {Eigen::Vector3d(1, 0.8, 1).normalized(), {0, 1, 0}};
+    case View::front:
+      return {{0, 0, 1}, {0, 1, 0}};
+    case View::back:
+      return {{0, 0, -1}, {0, 1, 0}};
+    case View::left:
+      return {{-1, 0, 0}, {0, 1, 0}};
+    case View::right:
+      return {{1, 0, 0}, {0, 1, 0}};
+    case View::top:
+      return {{0, 1, 0}, {0, 0, -1}};
+    case View::iso:
+      return {Eigen::Vector3d(1, 0.8, 1).normalized(), {0, 1, 0}};
   }
   return {{0, 0, 1}, {0, 1, 0}};
 }
@@ -49,7 +55,8 @@ void validate(const Camera& c) {
   if (!(d.normalized().cross(c.up.normalized()).norm() > 1e-6))
     throw InvalidInputError("camera: the up vector is parallel to the viewing direction");
   if (!(c.fov_degrees > 0 && c.fov_degrees < 180))
-    throw InvalidInputError("camera: the field of view must be in (0, 180) degrees, got " + std::to_string(c.fov_degrees));
+    throw InvalidInputError("camera: the field of view must be in (0, 180) degrees, got " +
+                            std::to_string(c.fov_degrees));
 }
 
 Camera frame(const Box& box, const Camera& camera, double aspect) {
@@ -68,8 +75,8 @@ Camera frame(const Box& box, const Camera& camera, double aspect) {
                                  (k & 4) ? box.hi.z() : box.lo.z());
     const Eigen::Vector3d d = corner - c;
     const double toward = d.dot(back);
-    distance = std::max({distance, toward + std::abs(d.dot(side)) / (0.92 * tan_h),
-                         toward + std::abs(d.dot(up)) / (0.92 * tan_v)});
+    distance = std::max(
+        {distance, toward + std::abs(d.dot(side)) / (0.92 * tan_h), toward + std::abs(d.dot(up)) / (0.92 * tan_v)});
   }
   // Never inside the box.
   distance = std::max(distance, 1.05 * box.diagonal() / 2);

@@ -2,7 +2,6 @@
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
-
 #include <sstream>
 
 #include "cgamesh/errors.hpp"
@@ -40,8 +39,9 @@ struct HeadlessContext::State {
 };
 
 HeadlessContext::HeadlessContext() : state_(std::make_unique<State>()) {
-  const std::string fix = " (headless rendering needs EGL with Mesa's surfaceless platform or a GPU driver: "
-                          "Debian packages libegl1 libegl-mesa0 libgl1-mesa-dri)";
+  const std::string fix =
+      " (headless rendering needs EGL with Mesa's surfaceless platform or a GPU driver: "
+      "Debian packages libegl1 libegl-mesa0 libgl1-mesa-dri)";
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (has_extension(client, "EGL_MESA_platform_surfaceless"))
     state_->display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
@@ -61,12 +61,14 @@ HeadlessContext::HeadlessContext() : state_(std::make_unique<State>()) {
     if (!eglChooseConfig(state_->display, attributes, &config, 1, &count) || count < 1)
       throw PlatformError("no EGL config for desktop OpenGL: " + egl_error() + fix);
   }
-  const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                       EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint context_attributes[] = {
+      EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   state_->context = eglCreateContext(state_->display, config, EGL_NO_CONTEXT, context_attributes);
   if (state_->context == EGL_NO_CONTEXT) throw PlatformError("no OpenGL 3.3 core context: " + egl_error() + fix);
   if (!has_extension(display_extensions, "EGL_KHR_surfaceless_context"))
-    throw PlatformError("the EGL display cannot make a context current without a surface (EGL_KHR_surfaceless_context)" + fix);
+    throw PlatformError(
+        "the EGL display cannot make a context current without a surface (EGL_KHR_surfaceless_context)" + fix);
   if (!eglMakeCurrent(state_->display, EGL_NO_SURFACE, EGL_NO_SURFACE, state_->context))
     throw PlatformError("eglMakeCurrent failed: " + egl_error() + fix);
 }

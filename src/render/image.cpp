@@ -1,12 +1,12 @@
 #include "cgamesh/render/image.hpp"
 
+#include <algorithm>
+#include <cstring>
+#include <memory>
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
-#include <algorithm>
 #include <climits>
-#include <cstring>
-#include <memory>
 
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
@@ -15,10 +15,11 @@ namespace cgamesh::render {
 namespace {
 
 void check(const Image& image) {
-  if (image.width <= 0 || image.height <= 0) throw InvalidInputError("image: empty (" + std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
+  if (image.width <= 0 || image.height <= 0)
+    throw InvalidInputError("image: empty (" + std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
   if (image.rgba.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4)
-    throw InvalidInputError("image: " + std::to_string(image.rgba.size()) + " bytes for " + std::to_string(image.width) +
-                            "x" + std::to_string(image.height) + " RGBA pixels");
+    throw InvalidInputError("image: " + std::to_string(image.rgba.size()) + " bytes for " +
+                            std::to_string(image.width) + "x" + std::to_string(image.height) + " RGBA pixels");
 }
 
 std::uint8_t to_byte(float c) { return static_cast<std::uint8_t>(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); }
@@ -36,7 +37,9 @@ std::string encode_png(const Image& image) {
   return out;
 }
 
-void write_png(const Image& image, const std::filesystem::path& path) { io::write_file_atomically(path, encode_png(image)); }
+void write_png(const Image& image, const std::filesystem::path& path) {
+  io::write_file_atomically(path, encode_png(image));
+}
 
 Image decode_image(std::span<const std::uint8_t> bytes, const std::string& what) {
   if (bytes.empty() || bytes.size() > static_cast<std::size_t>(INT_MAX)) throw FileError(what + ": no image data");

@@ -19,12 +19,18 @@ Eigen::Vector3f distinct_color(int i) {
   const float h = std::fmod(0.08f + 0.618034f * static_cast<float>(i), 1.0f) * 6.0f, s = 0.62f, v = 0.93f;
   const float f = h - std::floor(h), p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   switch (static_cast<int>(h) % 6) {
-    case 0: return {v, t, p};
-    case 1: return {q, v, p};
-    case 2: return {p, v, t};
-    case 3: return {p, q, v};
-    case 4: return {t, p, v};
-    default: return {v, p, q};
+    case 0:
+      return {v, t, p};
+    case 1:
+      return {q, v, p};
+    case 2:
+      return {p, v, t};
+    case 3:
+      return {p, q, v};
+    case 4:
+      return {t, p, v};
+    default:
+      return {v, p, q};
   }
 }
 
@@ -41,7 +47,8 @@ void for_each_influence(const mesh::Mesh& m, Eigen::Index v, F&& f) {
 }
 
 /// Area-weighted vertex normals of a placed mesh (the normal colour of a mesh without normals).
-RowMatrixXf<3> face_normals_at_vertices(const RowMatrixXf<3>& x, const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces) {
+RowMatrixXf<3> face_normals_at_vertices(const RowMatrixXf<3>& x,
+                                        const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces) {
   RowMatrixXf<3> n = RowMatrixXf<3>::Zero(x.rows(), 3);
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Eigen::Vector3f a = x.row(faces(f, 0)), b = x.row(faces(f, 1)), c = x.row(faces(f, 2));
@@ -61,7 +68,9 @@ void add_skeleton(Scene& scene, const anim::RiggedModel& model, const std::vecto
     for (const int j : m.skin.palette) used[static_cast<std::size_t>(j)] = 1;
   LineSet bones;
   PointSet joints;
-  const auto at = [&](int j) { return Eigen::Vector3f(globals[static_cast<std::size_t>(j)].topRightCorner<3, 1>().cast<float>()); };
+  const auto at = [&](int j) {
+    return Eigen::Vector3f(globals[static_cast<std::size_t>(j)].topRightCorner<3, 1>().cast<float>());
+  };
   for (int j = 0; j < model.skeleton.size(); ++j) {
     if (!used[static_cast<std::size_t>(j)]) continue;
     joints.points.push_back(at(j));
@@ -102,12 +111,16 @@ ColorMode parse_color_mode(const std::string& name, std::string& joint_name) {
   if (name == "weights") return ColorMode::weights;
   if (name == "piece") return ColorMode::piece;
   if (name == "new") return ColorMode::generated;
-  throw InvalidInputError("colour '" + name + "': expected material, height, normal, joint:NAME, weights, piece or new");
+  throw InvalidInputError("colour '" + name +
+                          "': expected material, height, normal, joint:NAME, weights, piece or new");
 }
 
 Eigen::Vector3f heat_color(float t) noexcept {
-  static constexpr std::array<std::array<float, 3>, 5> kStops{
-      {{0.15f, 0.25f, 0.85f}, {0.10f, 0.75f, 0.90f}, {0.25f, 0.80f, 0.30f}, {0.98f, 0.85f, 0.15f}, {0.90f, 0.12f, 0.10f}}};
+  static constexpr std::array<std::array<float, 3>, 5> kStops{{{0.15f, 0.25f, 0.85f},
+                                                               {0.10f, 0.75f, 0.90f},
+                                                               {0.25f, 0.80f, 0.30f},
+                                                               {0.98f, 0.85f, 0.15f},
+                                                               {0.90f, 0.12f, 0.10f}}};
   t = std::isfinite(t) ? std::clamp(t, 0.0f, 1.0f) * 4.0f : 0.0f;
   const int i = std::min(static_cast<int>(t), 3);
   const float f = t - static_cast<float>(i);
@@ -179,7 +192,8 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
           d.colors = RowMatrixXf<3>::Zero(nv, 3);
           for (Eigen::Index v = 0; v < nv; ++v) {
             if (o.color == ColorMode::weights) {
-              for_each_influence(m, v, [&](int j, float w) { d.colors.row(v) += w * distinct_color(std::max(j, 0)).transpose(); });
+              for_each_influence(
+                  m, v, [&](int j, float w) { d.colors.row(v) += w * distinct_color(std::max(j, 0)).transpose(); });
             } else {
               float w_joint = 0;
               for_each_influence(m, v, [&](int j, float w) { w_joint += j == joint ? w : 0.0f; });
@@ -192,7 +206,8 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
           d.colors.resize(nv, 3);
           for (Eigen::Index v = 0; v < nv; ++v) {
             const int id = p.of_vertex[static_cast<std::size_t>(v)];
-            d.colors.row(v) = (id < 0 ? Eigen::Vector3f(0.6f, 0.6f, 0.6f) : distinct_color(piece_count + id)).transpose();
+            d.colors.row(v) =
+                (id < 0 ? Eigen::Vector3f(0.6f, 0.6f, 0.6f) : distinct_color(piece_count + id)).transpose();
           }
           piece_count += p.count;
           break;
@@ -201,7 +216,7 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
           d.colors.resize(nv, 3);
           for (Eigen::Index v = 0; v < nv; ++v)
             d.colors.row(v) = (m.generated.size() == nv && m.generated[v] ? Eigen::Vector3f(0.95f, 0.15f, 0.1f)
-                                                                           : Eigen::Vector3f(0.7f, 0.7f, 0.7f))
+                                                                          : Eigen::Vector3f(0.7f, 0.7f, 0.7f))
                                   .transpose();
           break;
       }
@@ -219,7 +234,8 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
     const float span = hi > lo ? hi - lo : 1.0f;
     for (DrawMesh& d : scene.meshes) {
       d.colors.resize(d.positions.rows(), 3);
-      for (Eigen::Index v = 0; v < d.positions.rows(); ++v) d.colors.row(v) = heat_color((d.positions(v, 1) - lo) / span).transpose();
+      for (Eigen::Index v = 0; v < d.positions.rows(); ++v)
+        d.colors.row(v) = heat_color((d.positions(v, 1) - lo) / span).transpose();
     }
   }
   return scene;

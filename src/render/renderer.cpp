@@ -1,12 +1,11 @@
 #include "cgamesh/render/renderer.hpp"
 
-#include <epoxy/gl.h>
-
 #include <algorithm>
 #include <cmath>
+#include <epoxy/gl.h>
 #include <memory>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cgamesh/errors.hpp"
@@ -254,8 +253,8 @@ struct Framebuffer {
     }
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       release();
-      throw PlatformError("renderer: the driver cannot make a " + std::to_string(width) + "x" +
-                          std::to_string(height) + " framebuffer");
+      throw PlatformError("renderer: the driver cannot make a " + std::to_string(width) + "x" + std::to_string(height) +
+                          " framebuffer");
     }
   }
   ~Framebuffer() { release(); }
@@ -341,15 +340,18 @@ struct Renderer::State {
 };
 
 Renderer::Renderer() {
-  if (epoxy_gl_version() < 33) throw PlatformError("renderer: needs OpenGL 3.3 core; the current context has " +
-                                                   std::to_string(epoxy_gl_version() / 10) + "." +
-                                                   std::to_string(epoxy_gl_version() % 10));
+  if (epoxy_gl_version() < 33)
+    throw PlatformError("renderer: needs OpenGL 3.3 core; the current context has " +
+                        std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10));
   state_ = std::make_unique<State>();
   const std::string wire_fragment = std::string("\n#define WITH_GEOMETRY") + kMeshFragment;
   state_->mesh_program = link({{GL_VERTEX_SHADER, kMeshVertex}, {GL_FRAGMENT_SHADER, kMeshFragment}});
-  state_->wire_program = link({{GL_VERTEX_SHADER, kMeshVertex}, {GL_GEOMETRY_SHADER, kMeshGeometry},
+  state_->wire_program = link({{GL_VERTEX_SHADER, kMeshVertex},
+                               {GL_GEOMETRY_SHADER, kMeshGeometry},
                                {GL_FRAGMENT_SHADER, wire_fragment.c_str()}});
-  state_->line_program = link({{GL_VERTEX_SHADER, kOverlayVertex}, {GL_GEOMETRY_SHADER, kLineGeometry}, {GL_FRAGMENT_SHADER, kOverlayFragment}});
+  state_->line_program = link({{GL_VERTEX_SHADER, kOverlayVertex},
+                               {GL_GEOMETRY_SHADER, kLineGeometry},
+                               {GL_FRAGMENT_SHADER, kOverlayFragment}});
   state_->point_program = link({{GL_VERTEX_SHADER, kOverlayVertex}, {GL_FRAGMENT_SHADER, kOverlayFragment}});
   glGenVertexArrays(1, &state_->vao);
   state_->buffers.resize(5);
@@ -420,14 +422,15 @@ void Renderer::draw(const Scene& scene, const Camera& camera, const RenderOption
     glUniform1f(s.uniform(program, "u_size"), size);
     glUniform3fv(s.uniform(program, "u_color"), 1, color.data());
     glUniform1i(s.uniform(program, "u_round"), primitive == GL_POINTS ? 1 : 0);
-    if (on_top) glDisable(GL_DEPTH_TEST);
-    else glEnable(GL_DEPTH_TEST);
+    if (on_top)
+      glDisable(GL_DEPTH_TEST);
+    else
+      glEnable(GL_DEPTH_TEST);
     s.attribute(0, 3, points.front().data(), static_cast<Eigen::Index>(points.size()), 0);
     glDrawArrays(primitive, 0, static_cast<GLsizei>(points.size()));
   };
   glEnable(GL_PROGRAM_POINT_SIZE);
-  for (const LineSet& l : scene.lines)
-    overlay(s.line_program, l.points, l.color, l.width_pixels, l.on_top, GL_LINES);
+  for (const LineSet& l : scene.lines) overlay(s.line_program, l.points, l.color, l.width_pixels, l.on_top, GL_LINES);
   for (const PointSet& p : scene.points)
     overlay(s.point_program, p.points, p.color, p.size_pixels, p.on_top, GL_POINTS);
   glEnable(GL_DEPTH_TEST);

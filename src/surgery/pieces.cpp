@@ -3,6 +3,7 @@
 #include <string>
 
 #include "cgamesh/errors.hpp"
+
 #include "surgery_common.hpp"
 
 namespace cgamesh::surgery {
@@ -29,7 +30,8 @@ Pieces pieces(const mesh::Mesh& m) {
   }
   for (int v = 0; v < nv; ++v) {
     // A vertex in no face is its own root with no piece; a seam copy takes its weld's piece.
-    out.of_vertex[static_cast<std::size_t>(v)] = piece_of_root[static_cast<std::size_t>(sets.find(weld[static_cast<std::size_t>(v)]))];
+    out.of_vertex[static_cast<std::size_t>(v)] =
+        piece_of_root[static_cast<std::size_t>(sets.find(weld[static_cast<std::size_t>(v)]))];
   }
   return out;
 }

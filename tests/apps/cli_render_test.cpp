@@ -1,11 +1,12 @@
 // `cgamesh render`: pictures of models and of surgery results, and every bad request refused.
-#include <gtest/gtest.h>
-
 #include <cstdlib>
 #include <span>
 
-#include "apps/cli_util.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/render/image.hpp"
+
+#include "apps/cli_util.hpp"
 
 namespace {
 
@@ -33,7 +34,8 @@ TEST(CliRender, WritesAPictureOfTheRequestedSize) {
   EXPECT_EQ(image.height, 150);
   // Something other than the white background is drawn.
   long drawn = 0;
-  for (std::size_t i = 0; i < image.rgba.size(); i += 4) drawn += image.rgba[i] + image.rgba[i + 1] + image.rgba[i + 2] < 700;
+  for (std::size_t i = 0; i < image.rgba.size(); i += 4)
+    drawn += image.rgba[i] + image.rgba[i + 1] + image.rgba[i + 2] < 700;
   EXPECT_GT(drawn, 500);
 }
 

@@ -1,13 +1,13 @@
-#include <gtest/gtest.h>
+#include "cgamesh/render/camera.hpp"
 
 #include <cmath>
 #include <limits>
 #include <numbers>
 
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
 
 #include "cgamesh/errors.hpp"
-#include "cgamesh/render/camera.hpp"
 
 namespace {
 

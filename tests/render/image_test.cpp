@@ -1,12 +1,13 @@
-#include <gtest/gtest.h>
+#include "cgamesh/render/image.hpp"
 
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "cgamesh/errors.hpp"
-#include "cgamesh/render/image.hpp"
 
 namespace {
 
@@ -30,8 +31,8 @@ TEST(Image, PngRoundTripIsExact) {
   const std::string png = render::encode_png(im);
   ASSERT_GT(png.size(), 8u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
-  const render::Image back = render::decode_image(
-      std::span(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()), "round trip");
+  const render::Image back =
+      render::decode_image(std::span(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()), "round trip");
   EXPECT_EQ(back.width, 37);
   EXPECT_EQ(back.height, 21);
   EXPECT_EQ(back.rgba, im.rgba);

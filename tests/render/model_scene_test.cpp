@@ -1,15 +1,17 @@
-#include <gtest/gtest.h>
+#include "cgamesh/render/model_scene.hpp"
 
 #include <set>
 
-#include "anim/model_fixtures.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
-#include "cgamesh/render/model_scene.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/placement.hpp"
+
+#include "anim/model_fixtures.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -18,7 +20,8 @@ namespace render = cgamesh::render;
 namespace anim = cgamesh::anim;
 namespace surgery = cgamesh::surgery;
 
-render::Scene scene_of(const anim::RiggedModel& model, const render::ModelSceneOptions& o, std::vector<std::string>* w = nullptr) {
+render::Scene scene_of(const anim::RiggedModel& model, const render::ModelSceneOptions& o,
+                       std::vector<std::string>* w = nullptr) {
   const render::ModelInstance in{&model, anim::rest_pose(model.skeleton)};
   return render::model_scene(std::span(&in, 1), o, w);
 }

@@ -43,8 +43,9 @@ Mask project(const std::vector<cgamesh::render::DrawMesh>& meshes, const cgamesh
              int height, const cgamesh::render::Box& depth_box, Keep&& keep) {
   double near = 0, far = 0;
   cgamesh::render::depth_range(camera, depth_box, near, far);
-  const Eigen::Matrix4d vp = cgamesh::render::projection_matrix(camera, static_cast<double>(width) / height, near, far) *
-                             cgamesh::render::view_matrix(camera);
+  const Eigen::Matrix4d vp =
+      cgamesh::render::projection_matrix(camera, static_cast<double>(width) / height, near, far) *
+      cgamesh::render::view_matrix(camera);
   Mask m{width, height, std::vector<char>(static_cast<std::size_t>(width * height), 0)};
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     const auto& d = meshes[i];
@@ -56,7 +57,8 @@ Mask project(const std::vector<cgamesh::render::DrawMesh>& meshes, const cgamesh
     }
     for (Eigen::Index f = 0; f < d.faces.rows(); ++f) {
       if (!keep(i, f)) continue;
-      const Eigen::Vector2d a = win[static_cast<std::size_t>(d.faces(f, 0))], b = win[static_cast<std::size_t>(d.faces(f, 1))],
+      const Eigen::Vector2d a = win[static_cast<std::size_t>(d.faces(f, 0))],
+                            b = win[static_cast<std::size_t>(d.faces(f, 1))],
                             c = win[static_cast<std::size_t>(d.faces(f, 2))];
       const auto edge = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
         return (q.x() - p.x()) * (r.y() - p.y()) - (q.y() - p.y()) * (r.x() - p.x());

@@ -1,16 +1,18 @@
 // The renderer on a real context: EGL surfaceless (Mesa's llvmpipe in CI, no GPU, no display).
-#include <gtest/gtest.h>
+#include "cgamesh/render/renderer.hpp"
 
 #include <memory>
 #include <vector>
 
-#include "anim/model_fixtures.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/render/headless_context.hpp"
 #include "cgamesh/render/model_scene.hpp"
-#include "cgamesh/render/renderer.hpp"
+
+#include "anim/model_fixtures.hpp"
 #include "render/render_checks.hpp"
 
 namespace {
@@ -31,7 +33,9 @@ class Renderer : public ::testing::Test {
     renderer_ = std::make_unique<render::Renderer>();
   }
 
-  static anim::Pose pose_at(double t) { return anim::sample(model_->skeleton, model_->clips[0], t, anim::BlendMode::format); }
+  static anim::Pose pose_at(double t) {
+    return anim::sample(model_->skeleton, model_->clips[0], t, anim::BlendMode::format);
+  }
 
   render::Scene scene_at(double t, const render::ModelSceneOptions& o = {}) {
     const render::ModelInstance in{model_.get(), pose_at(t)};
@@ -97,9 +101,10 @@ TEST_F(Renderer, JointColourIsHotWhereTheJointInfluences) {
       if (m.skin.palette[m.skin.joints(v, k)] == joint) w += m.skin.weights(v, k);
     return w;
   };
-  const Mask region = cgamesh_test::project(scene.meshes, camera, 320, 240, scene.bounds(), [&](std::size_t, Eigen::Index f) {
-    return weight(m.faces(f, 0)) > 0.5 || weight(m.faces(f, 1)) > 0.5 || weight(m.faces(f, 2)) > 0.5;
-  });
+  const Mask region =
+      cgamesh_test::project(scene.meshes, camera, 320, 240, scene.bounds(), [&](std::size_t, Eigen::Index f) {
+        return weight(m.faces(f, 0)) > 0.5 || weight(m.faces(f, 1)) > 0.5 || weight(m.faces(f, 2)) > 0.5;
+      });
   long hot = 0, inside = 0, cold = 0;
   for (int y = 0; y < 240; ++y)
     for (int x = 0; x < 320; ++x) {
@@ -174,7 +179,8 @@ TEST_F(Renderer, WireframeDarkensEdgesAndOverlaysAreDrawn) {
   long darker = 0, orange = 0;
   for (std::size_t i = 0; i < plain.rgba.size(); i += 4) {
     darker += wired.rgba[i] + 30 < plain.rgba[i];
-    orange += skeleton.rgba[i] > 200 && skeleton.rgba[i + 1] > 100 && skeleton.rgba[i + 1] < 200 && skeleton.rgba[i + 2] < 80;
+    orange +=
+        skeleton.rgba[i] > 200 && skeleton.rgba[i + 1] > 100 && skeleton.rgba[i + 1] < 200 && skeleton.rgba[i + 2] < 80;
   }
   EXPECT_GT(darker, 500);
   EXPECT_GT(orange, 19 * 10) << "joint dots missing";
@@ -195,8 +201,9 @@ TEST_F(Renderer, BadScenesAndOptionsAreErrors) {
   broken = scene;
   broken.meshes[0].colors.resize(2, 3);
   EXPECT_THROW(static_cast<void>(renderer_->render(broken, camera, options_)), cgamesh::InvalidInputError);
-  EXPECT_THROW(static_cast<void>(renderer_->render(scene, render::Camera{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}, 35}, options_)),
-               cgamesh::InvalidInputError);
+  EXPECT_THROW(
+      static_cast<void>(renderer_->render(scene, render::Camera{{0, 0, 0}, {0, 0, 0}, {0, 1, 0}, 35}, options_)),
+      cgamesh::InvalidInputError);
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
+#include "cgamesh/surgery/pieces.hpp"
+
 #include <gtest/gtest.h>
 
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/surgery/cut.hpp"
-#include "cgamesh/surgery/pieces.hpp"
+
 #include "surgery/surgery_fixtures.hpp"
 
 namespace {
@@ -47,8 +49,8 @@ TEST(Pieces, CesiumManIsOnePieceAndACutThroughTheArmsMakesMore) {
   EXPECT_EQ(surgery::pieces(model.meshes[0]).count, 1);
   // At t = 0.5 a horizontal plane at the waist also cuts both forearms: the lower side keeps
   // the legs and the two hands apart.
-  const auto placement = surgery::place(model, cgamesh::anim::sample(model.skeleton, model.clips[0], 0.5,
-                                                                     cgamesh::anim::BlendMode::format));
+  const auto placement = surgery::place(
+      model, cgamesh::anim::sample(model.skeleton, model.clips[0], 0.5, cgamesh::anim::BlendMode::format));
   const surgery::ModelCut c = surgery::cut(model, placement, cga::plane<double>({0, 1, 0}, 0.9));
   EXPECT_EQ(surgery::pieces(c.pieces[0].meshes[0]).count, 1);
   EXPECT_GE(surgery::pieces(c.pieces[1].meshes[0]).count, 2);

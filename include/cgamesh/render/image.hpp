@@ -18,10 +18,12 @@ struct Image {
   std::vector<std::uint8_t> rgba;  ///< width × height × 4 bytes
 
   [[nodiscard]] const std::uint8_t* pixel(int x, int y) const noexcept {
-    return rgba.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
+    return rgba.data() +
+           (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
   }
   [[nodiscard]] std::uint8_t* pixel(int x, int y) noexcept {
-    return rgba.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
+    return rgba.data() +
+           (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) * 4;
   }
 };
 

@@ -19,7 +19,7 @@ struct RenderOptions {
   int width = 1280;
   int height = 960;
   Eigen::Vector3f background{1, 1, 1};
-  bool wireframe = false;                      ///< triangle edges drawn over the shading
+  bool wireframe = false;  ///< triangle edges drawn over the shading
   Eigen::Vector3f wire_color{0.1f, 0.1f, 0.12f};
   /// Back faces (the inside seen through a hole or an open cut) are mixed with this colour.
   Eigen::Vector3f back_face_color{0.85f, 0.25f, 0.2f};

@@ -22,7 +22,7 @@ struct DrawMesh {
   mesh::RowMatrixXf<2> uvs;        ///< #V×2 texture coordinates (OpenGL: v = 0 at the bottom), or 0 rows
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces;  ///< #F×3 vertex indices
   Eigen::Vector4f base_color{0.72f, 0.72f, 0.70f, 1.0f};         ///< multiplies colours and texture
-  std::shared_ptr<const Image> texture;  ///< base colour texture (with uvs), or null
+  std::shared_ptr<const Image> texture;                          ///< base colour texture (with uvs), or null
 };
 
 /// Line segments drawn over the meshes (a skeleton, a tool outline).
