@@ -144,6 +144,25 @@ TEST_F(Renderer, HeightColourIsHotAtTheTopAndColdAtTheBottom) {
   EXPECT_GT(bottom.z(), bottom.x()) << "bottom not blue: " << bottom.transpose();
 }
 
+TEST_F(Renderer, MaterialModeShowsTheBaseColourTexture) {
+  // CesiumMan's texture is white with blue and green bands: both show, with the white
+  // between them.
+  const render::Scene scene = scene_at(0.5);
+  ASSERT_TRUE(scene.meshes[0].texture);
+  const render::Camera camera = render::frame(scene.bounds(), render::View::right, 35, 320.0 / 240.0);
+  const render::Image image = renderer_->render(scene, camera, options_);
+  long green = 0, blue = 0, drawn = 0;
+  for (std::size_t i = 0; i < image.rgba.size(); i += 4) {
+    const int r = image.rgba[i], g = image.rgba[i + 1], b = image.rgba[i + 2];
+    drawn += r + g + b > 60;
+    green += g > r + 40 && g > b + 20;
+    blue += b > r + 40 && b > g;
+  }
+  EXPECT_GT(green, 100);
+  EXPECT_GT(blue, 100);
+  EXPECT_GT(2 * drawn, 3 * (green + blue));
+}
+
 TEST_F(Renderer, BackFacesAreTinted) {
   // A single triangle seen from behind takes the back-face colour; from the front it does not.
   render::Scene scene;
