@@ -15,8 +15,9 @@
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
-#include "cgamesh/surgery/tear.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
+#include "cgamesh/surgery/tear.hpp"
+
 #include "cli_common.hpp"
 
 namespace cgamesh::cli {
@@ -43,6 +44,7 @@ struct SurgeryCommand {
   PoseChoice placement{"place the tool against this animation"};
   bool euclidean = false;
   bool json = false;
+  std::string rest_position = "exact";
 
   /// The model loaded, placed and (for the local tools) indexed.
   struct Scene {
@@ -66,6 +68,10 @@ struct SurgeryCommand {
     return euclidean ? surgery::Predicates::euclidean : surgery::Predicates::cga;
   }
 
+  [[nodiscard]] surgery::RestPosition rest() const {
+    return rest_position == "parametric" ? surgery::RestPosition::parametric : surgery::RestPosition::exact;
+  }
+
   /// Runs `operation` and returns its result; `ms` gets its time alone.
   template <class Operation>
   [[nodiscard]] static auto timed(Operation&& operation, double& ms) {
@@ -82,7 +88,8 @@ struct SurgeryCommand {
     Json summary = {{outputs.is_array() ? "outputs" : "output", outputs},
                     {"milliseconds", ms},
                     {"placement_milliseconds", scene.milliseconds},
-                    {"predicates", euclidean ? "euclidean" : "cga"}};
+                    {"predicates", euclidean ? "euclidean" : "cga"},
+                    {"rest", rest_position}};
     for (const auto& [key, value] : fields.items()) summary[key] = value;
     summary["warnings"] = warnings;
     if (json) {
@@ -96,6 +103,11 @@ struct SurgeryCommand {
   void add_common(CLI::App& sub) {
     sub.add_option("MODEL", model, "model file")->required();
     sub.add_flag("--euclidean", euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
+    sub.add_option("--rest", rest_position,
+                   "rest positions of new vertices: exact (re-posed at the tool's pose they lie on the tool) or "
+                   "parametric (the paper's edge/face parameters on the rest mesh)")
+        ->check(CLI::IsMember({"exact", "parametric"}))
+        ->capture_default_str();
     placement.add_to(sub);
     sub.add_flag("--json", json, "print a machine-readable summary");
   }
@@ -122,6 +134,7 @@ struct CutCommand : SurgeryCommand {
     const cga::Vector<double> pi = cga::plane(n, p[3]);
     const Scene scene = load(false);
     options.predicates = predicates();
+    options.rest = rest();
     double ms = 0;
     const surgery::ModelCut c = timed([&] { return surgery::cut(scene.model, scene.placement, pi, options); }, ms);
     std::vector<io::EncodedFile> files;
@@ -138,8 +151,8 @@ struct CutCommand : SurgeryCommand {
            "cut " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(c.intersection_points) +
                " intersection points, " + std::to_string(c.faces_split) + " faces split, " +
                std::to_string(c.faces_out[0]) + " + " + std::to_string(c.faces_out[1]) + " faces" +
-               (options.cap ? ", " + std::to_string(c.cap_triangles) + " cap triangles" : "") + "\n  -> " +
-               outputs[0] + ", " + outputs[1],
+               (options.cap ? ", " + std::to_string(c.cap_triangles) + " cap triangles" : "") + "\n  -> " + outputs[0] +
+               ", " + outputs[1],
            c.warnings);
   }
 };
@@ -155,9 +168,12 @@ struct DrillCommand : SurgeryCommand {
     const Eigen::Vector3d tip_point(a[0], a[1], a[2]), base_point(b[0], b[1], b[2]);
     const Scene scene = load(true);
     options.predicates = predicates();
+    options.rest = rest();
     double ms = 0;
     const surgery::ModelDrill d = timed(
-        [&] { return surgery::drill(scene.model, scene.placement, scene.index, tip_point, base_point, radius, options); },
+        [&] {
+          return surgery::drill(scene.model, scene.placement, scene.index, tip_point, base_point, radius, options);
+        },
         ms);
     if (d.model.meshes.empty()) throw TopologyError("drill: the drill removes the whole model; nothing to write");
     io::write_files_atomically(encode_result(d.model, d.placed, output));
@@ -195,6 +211,7 @@ struct TearCommand : SurgeryCommand {
     if (!(options.open >= 0)) throw InvalidInputError("--open: the opening width must be >= 0");
     const Scene scene = load(true);
     options.predicates = predicates();
+    options.rest = rest();
     double ms = 0;
     const surgery::ModelTear t =
         timed([&] { return surgery::tear(scene.model, scene.placement, scene.index, steps, options); }, ms);
@@ -235,8 +252,8 @@ void add_cut(CLI::App& app) {
 
 void add_drill(CLI::App& app) {
   auto c = std::make_shared<DrillCommand>();
-  CLI::App* sub =
-      app.add_subcommand("drill", "Drill a hole with a cylinder from BASE to TIP (the model keeps skin and animations)");
+  CLI::App* sub = app.add_subcommand(
+      "drill", "Drill a hole with a cylinder from BASE to TIP (the model keeps skin and animations)");
   c->add_common(*sub);
   sub->add_option("--tip", c->tip, "X,Y,Z: the tip A of the drill axis (world space, as placed)")->required();
   sub->add_option("--base", c->base, "X,Y,Z: the base B of the drill axis")->required();
@@ -244,9 +261,15 @@ void add_drill(CLI::App& app) {
   sub->add_option("-o,--output", c->output, "OUT: .glb/.gltf (rigged) or .obj/.ply (as placed)")->required();
   sub->add_flag("--wall", c->options.wall, "line each through-hole with a tube (a closed model stays closed)");
   sub->add_option("--min-rim-points", c->options.min_rim_points, "refine until each rim has this many points")
-      ->check(CLI::Range(3, 1 << 20));
+      ->check(CLI::Range(3, surgery::kMaxRimPoints))
+      ->capture_default_str();
   sub->add_option("--max-refinements", c->options.max_refinements, "at most this many rounds of 1->4 splits")
-      ->check(CLI::Range(0, 20));
+      ->check(CLI::Range(0, surgery::kMaxRefinements))
+      ->capture_default_str();
+  sub->add_option("--max-region-faces", c->options.max_region_faces,
+                  "work budget: refinement stops before the drilled region would pass this many faces")
+      ->check(CLI::Range(1, 1 << 24))
+      ->capture_default_str();
   sub->callback([c] { c->run(); });
 }
 

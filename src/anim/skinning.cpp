@@ -9,6 +9,7 @@
 #include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/errors.hpp"
+
 #include "../parallel_for.hpp"
 
 namespace cgamesh::anim {
@@ -118,7 +119,8 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
       throw InvalidInputError("skinning: mesh '" + mesh.name + "' uses joint " + std::to_string(j) +
                               " but the pose has " + std::to_string(count));
     if (uses_cga) {
-      cga::Versor<double> v = j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
+      cga::Versor<double> v =
+          j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
       if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
       if (mode == SkinningMode::cga) {
         p.affine.push_back(cga::PointMap<double>(v).affine_matrix().cast<float>());
@@ -130,8 +132,10 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
     } else {
       Eigen::Matrix4d m = j < 0 ? Eigen::Matrix4d::Identity() : globals_matrix[j];
       if (!mesh.skin.empty()) m = m * mesh.skin.inverse_bind[k];
-      if (mode == SkinningMode::matrix) p.affine.push_back(m.topRows<3>().cast<float>());
-      else p.dual_quats.push_back(dual_quaternion(m));
+      if (mode == SkinningMode::matrix)
+        p.affine.push_back(m.topRows<3>().cast<float>());
+      else
+        p.dual_quats.push_back(dual_quaternion(m));
     }
   }
   // Without dilations every palette versor is a motor: blend 8 coefficients instead of 16.
@@ -161,8 +165,10 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
       }
       return;
     case SkinningMode::versor:
-      if (!p.motors.empty()) skin_blended(mesh, std::span(p.motors), begin, end, out);
-      else skin_blended(mesh, std::span(p.versors), begin, end, out);
+      if (!p.motors.empty())
+        skin_blended(mesh, std::span(p.motors), begin, end, out);
+      else
+        skin_blended(mesh, std::span(p.versors), begin, end, out);
       return;
     case SkinningMode::dqs:
       for (Eigen::Index i = begin; i < end; ++i) {
@@ -173,6 +179,12 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
       }
       return;
   }
+}
+
+Eigen::Matrix<double, 3, 4> blended_affine(const Mesh& mesh, const SkinningPalette& palette, Eigen::Index i) {
+  Eigen::Matrix<double, 3, 4> a = Eigen::Matrix<double, 3, 4>::Zero();
+  for_each_influence(mesh, i, [&](int k, float w) { a += static_cast<double>(w) * palette.affine[k].cast<double>(); });
+  return a;
 }
 
 RowMatrixXf<3> skin(const Mesh& mesh, const SkinningPalette& palette, int threads) {
@@ -202,8 +214,10 @@ RowMatrixXf<3> skin_normals(const Mesh& mesh, const SkinningPalette& p, int thre
         }
         break;
       case SkinningMode::versor:
-        if (!p.motors.empty()) skin_blended_normals(mesh, std::span(p.motors), begin, end, out);
-        else skin_blended_normals(mesh, std::span(p.versors), begin, end, out);
+        if (!p.motors.empty())
+          skin_blended_normals(mesh, std::span(p.motors), begin, end, out);
+        else
+          skin_blended_normals(mesh, std::span(p.versors), begin, end, out);
         break;
       case SkinningMode::dqs:
         for (Eigen::Index i = begin; i < end; ++i) {
@@ -215,8 +229,10 @@ RowMatrixXf<3> skin_normals(const Mesh& mesh, const SkinningPalette& p, int thre
     }
     for (Eigen::Index i = begin; i < end; ++i) {
       const float len = out.row(i).norm();
-      if (len > 0 && std::isfinite(len)) out.row(i) /= len;
-      else out.row(i) = mesh.normals.row(i);
+      if (len > 0 && std::isfinite(len))
+        out.row(i) /= len;
+      else
+        out.row(i) = mesh.normals.row(i);
     }
   });
   return out;
@@ -229,7 +245,8 @@ RowMatrixXf<3> skin_cga_reference(const Mesh& mesh, std::span<const cga::Versor<
     cga::Vec3<double> y = cga::Vec3<double>::Zero();
     for_each_influence(mesh, i, [&](int k, float w) {
       const int j = palette_joint(mesh, static_cast<std::size_t>(k));
-      cga::Versor<double> v = j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
+      cga::Versor<double> v =
+          j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
       if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
       y += static_cast<double>(w) * cga::down(cga::sandwich(v, x));
     });

@@ -158,8 +158,12 @@ std::vector<SegmentHit> TriangleBvh::segment_hits(const Eigen::Vector3d& a, cons
         const Eigen::Vector3d qv = tv.cross(e1);
         const double v = dir.dot(qv) / det;
         const double t = e2.dot(qv) / det;
-        if (u < 0 || v < 0 || u + v > 1 || t < 0 || t > 1) return;
-        hits.push_back({f, t, Eigen::Vector3d(1 - u - v, u, v)});
+        // A segment through a vertex or along an edge meets the faces there within rounding
+        // (u or v a few ulps below 0): each of them counts as hit, at the clamped point.
+        constexpr double eps = 1e-9;
+        if (u < -eps || v < -eps || u + v > 1 + eps || t < -eps || t > 1 + eps) return;
+        const double cu = std::clamp(u, 0.0, 1.0), cv = std::clamp(v, 0.0, 1.0 - cu);
+        hits.push_back({f, std::clamp(t, 0.0, 1.0), Eigen::Vector3d(1 - cu - cv, cu, cv)});
       });
   std::sort(hits.begin(), hits.end(), [](const SegmentHit& x, const SegmentHit& y) { return x.t < y.t; });
   return hits;
@@ -201,7 +205,8 @@ void TriangleBvh::replace(int f, const std::array<Eigen::Vector3f, 3>& corners) 
 }
 
 void TriangleBvh::append(const std::array<Eigen::Vector3f, 3>& corners, int near) {
-  if (near < 0 || near >= face_count()) throw InvalidInputError("TriangleBvh: no face " + std::to_string(near) + " to append next to");
+  if (near < 0 || near >= face_count())
+    throw InvalidInputError("TriangleBvh: no face " + std::to_string(near) + " to append next to");
   const int f = face_count(), leaf = leaf_of_[static_cast<std::size_t>(near)];
   corners_.resize(corners_.size() + 3);
   set_corners(f, corners);
@@ -217,8 +222,10 @@ void TriangleBvh::append(const std::array<Eigen::Vector3f, 3>& corners, int near
 }
 
 void TriangleBvh::link_appended(int f, int previous, int next) {
-  if (previous >= 0) next_appended_[static_cast<std::size_t>(previous)] = f;
-  else first_appended_[static_cast<std::size_t>(leaf_of_[static_cast<std::size_t>(f)])] = f;
+  if (previous >= 0)
+    next_appended_[static_cast<std::size_t>(previous)] = f;
+  else
+    first_appended_[static_cast<std::size_t>(leaf_of_[static_cast<std::size_t>(f)])] = f;
   if (next >= 0) previous_appended_[static_cast<std::size_t>(next)] = f;
 }
 
@@ -230,8 +237,10 @@ void TriangleBvh::erase(int f) {
     order_[static_cast<std::size_t>(slot)] = -1;
   } else {
     const int previous = previous_appended_[fi], next = next_appended_[fi];
-    if (previous >= 0) next_appended_[static_cast<std::size_t>(previous)] = next;
-    else first_appended_[static_cast<std::size_t>(leaf_of_[fi])] = next;
+    if (previous >= 0)
+      next_appended_[static_cast<std::size_t>(previous)] = next;
+    else
+      first_appended_[static_cast<std::size_t>(leaf_of_[fi])] = next;
     if (next >= 0) previous_appended_[static_cast<std::size_t>(next)] = previous;
   }
   // The last face takes id f.
@@ -242,8 +251,10 @@ void TriangleBvh::erase(int f) {
     slot_of_[fi] = slot_of_[li];
     next_appended_[fi] = next_appended_[li];
     previous_appended_[fi] = previous_appended_[li];
-    if (slot_of_[fi] >= 0) order_[static_cast<std::size_t>(slot_of_[fi])] = f;
-    else link_appended(f, previous_appended_[fi], next_appended_[fi]);
+    if (slot_of_[fi] >= 0)
+      order_[static_cast<std::size_t>(slot_of_[fi])] = f;
+    else
+      link_appended(f, previous_appended_[fi], next_appended_[fi]);
     for (std::size_t k = 0; k < 3; ++k) corners_[3 * fi + k] = corners_[3 * li + k];
   }
   corners_.resize(corners_.size() - 3);

@@ -16,6 +16,7 @@
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/errors.hpp"
+
 #include "flat_map.hpp"
 #include "polygon_triangulation.hpp"
 #include "surgery_common.hpp"
@@ -47,8 +48,9 @@ class Cutter {
  public:
   /// A cut of the whole mesh: every vertex is classified up front.
   Cutter(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
-         const CutOptions& options)
-      : Cutter(mesh, placed, plane, options, 0) {
+         const CutOptions& options, const anim::SkinningPalette* palette)
+      : Cutter(mesh, placed, plane, options, 0.0) {
+    palette_ = palette;
     if (placed.rows() != mesh.vertex_count())
       throw InvalidInputError("cut: mesh '" + mesh.name + "' has " + std::to_string(nv_) + " vertices but " +
                               std::to_string(placed.rows()) + " placed positions");
@@ -60,7 +62,11 @@ class Cutter {
   /// snapping tolerance `tolerance` (absolute).
   Cutter(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
          const CutOptions& options, double tolerance)
-      : mesh_(mesh), placed_(placed), options_(options), nv_(static_cast<int>(mesh.vertex_count())), tolerance_(tolerance) {
+      : mesh_(mesh),
+        placed_(placed),
+        options_(options),
+        nv_(static_cast<int>(mesh.vertex_count())),
+        tolerance_(tolerance) {
     const auto [n, d] = cga::plane_parameters(plane);
     normal_ = n;
     offset_ = d;
@@ -76,9 +82,12 @@ class Cutter {
     for (Eigen::Index f = 0; f < nf; ++f, corner += 3) {
       const int a = corner[0], b = corner[1], c = corner[2];
       const int sa = side[a], sb = side[b], sc = side[c];
-      if (sa > 0 && sb > 0 && sc > 0) faces_[0].push_back({a, b, c});
-      else if (sa < 0 && sb < 0 && sc < 0) faces_[1].push_back({a, b, c});
-      else split_face(f);
+      if (sa > 0 && sb > 0 && sc > 0)
+        faces_[0].push_back({a, b, c});
+      else if (sa < 0 && sb < 0 && sc < 0)
+        faces_[1].push_back({a, b, c});
+      else
+        split_face(f);
     }
     MeshCut out;
     out.intersection_points = static_cast<int>(points_.size());
@@ -156,12 +165,15 @@ class Cutter {
   /// Snapped signed distance and side of vertex v, evaluated where it is asked (a local cut): a
   /// few multiply-adds, cheaper than remembering them.
   [[nodiscard]] std::pair<double, int> classified(int v) const {
-    const double x = signed_distance(placed_.row(v).cast<double>().transpose(), normal_, offset_, plane_, options_.predicates);
+    const double x =
+        signed_distance(placed_.row(v).cast<double>().transpose(), normal_, offset_, plane_, options_.predicates);
     const int s = x > tolerance_ ? 1 : x < -tolerance_ ? -1 : 0;
     return {s == 0 ? 0.0 : x, s};
   }
   [[nodiscard]] double distance(int v) const { return classified(v).first; }
-  [[nodiscard]] int side(int v) const { return side_.empty() ? classified(v).second : side_[static_cast<std::size_t>(v)]; }
+  [[nodiscard]] int side(int v) const {
+    return side_.empty() ? classified(v).second : side_[static_cast<std::size_t>(v)];
+  }
   [[nodiscard]] static int piece_of(int side) { return side > 0 ? 0 : 1; }
 
   /// The crossing of edge (a, b), whose ends are strictly on opposite sides, shared by both faces
@@ -232,7 +244,8 @@ class Cutter {
   [[nodiscard]] Eigen::Vector3d point(int x) const {
     if (x < nv_) return placed_.row(x).cast<double>().transpose();
     const EdgePoint& e = points_[static_cast<std::size_t>(x - nv_)];
-    return (1.0 - e.t) * placed_.row(e.a).cast<double>().transpose() + e.t * placed_.row(e.b).cast<double>().transpose();
+    return (1.0 - e.t) * placed_.row(e.a).cast<double>().transpose() +
+           e.t * placed_.row(e.b).cast<double>().transpose();
   }
 
   [[nodiscard]] VertexSource source(int x, int piece) const {
@@ -274,8 +287,10 @@ class Cutter {
     for (std::size_t i = 0; i < extended.size(); ++i) {
       const int x = extended[i];
       const auto row = static_cast<Eigen::Index>(i);
-      if (x < nv_) std::memcpy(placed.row(row).data(), placed_.row(x).data(), 3 * sizeof(float));  // as it is
-      else placed.row(row) = point(x).cast<float>().transpose();
+      if (x < nv_)
+        std::memcpy(placed.row(row).data(), placed_.row(x).data(), 3 * sizeof(float));  // as it is
+      else
+        placed.row(row) = point(x).cast<float>().transpose();
     }
     std::vector<VertexSource>& sources = out.origins[static_cast<std::size_t>(piece)];
     sources.reserve(extended.size());
@@ -283,6 +298,7 @@ class Cutter {
     mesh::Mesh& m = out.pieces[static_cast<std::size_t>(piece)];
     m = mesh::resample(mesh_, sources, MeshFaces(0, 3));
     m.faces = std::move(piece_faces);  // valid by construction: moved in, not checked and copied
+    if (palette_ != nullptr) solve_rest_positions(m, *palette_, placed, sources, 0, options_.rest);
     if (static_cast<int>(sources.size()) > surface_vertices) set_cap_normals(m, surface_vertices);
   }
 
@@ -290,7 +306,8 @@ class Cutter {
   int weld_id(int x) {
     if (x < nv_) return weld_(x);
     const EdgePoint& e = points_[static_cast<std::size_t>(x - nv_)];
-    return *weld_of_edge_.try_emplace(edge_key(weld_(e.a), weld_(e.b)), nv_ + static_cast<int>(weld_of_edge_.size())).first;
+    return *weld_of_edge_.try_emplace(edge_key(weld_(e.a), weld_(e.b)), nv_ + static_cast<int>(weld_of_edge_.size()))
+                .first;
   }
 
   /// Triangulates the closed cross-section loops bounding this piece in the plane and appends
@@ -322,7 +339,8 @@ class Cutter {
     }
     if (boundary.empty()) return;
     if (std::any_of(balance.begin(), balance.end(), [](const auto& b) { return b.second != 0; })) {
-      out.warnings.push_back("mesh '" + mesh_.name + "': the cross-section is not closed (the mesh is open there); piece " +
+      out.warnings.push_back("mesh '" + mesh_.name +
+                             "': the cross-section is not closed (the mesh is open there); piece " +
                              std::string(piece == 0 ? "A" : "B") + " not capped");
       return;
     }
@@ -343,13 +361,20 @@ class Cutter {
     };
     for (const auto& e : boundary) edges.push_back({local_index(e[0]), local_index(e[1])});
     std::vector<Triangle> tris;
+    int left_out = 0;
     try {
-      tris = detail::triangulate_loops(pts, edges);
+      tris = detail::triangulate_loops_that_can_be(pts, edges, left_out);
     } catch (const TopologyError&) {
-      out.warnings.push_back("mesh '" + mesh_.name + "': the cross-section crosses itself (the surface self-intersects " +
-                             "there); piece " + std::string(piece == 0 ? "A" : "B") + " not capped");
-      return;
+      left_out = -1;
     }
+    if (left_out != 0)
+      out.warnings.push_back(
+          "mesh '" + mesh_.name + "': " +
+          (left_out < 0 ? std::string("the cross-section loops")
+                        : std::to_string(left_out) + " cross-section loop(s)") +
+          " cross themselves or each other (the surface self-intersects there); not capped on piece " +
+          std::string(piece == 0 ? "A" : "B"));
+    if (tris.empty()) return;
     // Cap vertices: copies of the loop vertices.
     std::vector<int> cap_vertex(pts.size());
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -361,10 +386,13 @@ class Cutter {
     const Eigen::Index first = faces.rows();
     faces.conservativeResize(first + static_cast<Eigen::Index>(tris.size()), 3);
     for (std::size_t t = 0; t < tris.size(); ++t) {
-      const int a = cap_vertex[static_cast<std::size_t>(tris[t][0])], b = cap_vertex[static_cast<std::size_t>(tris[t][1])],
+      const int a = cap_vertex[static_cast<std::size_t>(tris[t][0])],
+                b = cap_vertex[static_cast<std::size_t>(tris[t][1])],
                 c = cap_vertex[static_cast<std::size_t>(tris[t][2])];
-      if (piece == 0) faces.row(first + static_cast<Eigen::Index>(t)) << a, c, b;
-      else faces.row(first + static_cast<Eigen::Index>(t)) << a, b, c;
+      if (piece == 0)
+        faces.row(first + static_cast<Eigen::Index>(t)) << a, c, b;
+      else
+        faces.row(first + static_cast<Eigen::Index>(t)) << a, b, c;
     }
     out.cap_triangles += static_cast<int>(tris.size());
   }
@@ -388,6 +416,7 @@ class Cutter {
   const mesh::Mesh& mesh_;
   const RowMatrixXf<3>& placed_;
   const CutOptions& options_;
+  const anim::SkinningPalette* palette_ = nullptr;  ///< the placement's, for exact rest positions
   const int nv_;
   Eigen::Vector3d normal_;
   double offset_ = 0;
@@ -407,8 +436,8 @@ class Cutter {
 }  // namespace
 
 MeshCut cut_mesh(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
-                 const CutOptions& options) {
-  return Cutter(mesh, placed, plane, options).run();
+                 const CutOptions& options, const anim::SkinningPalette* palette) {
+  return Cutter(mesh, placed, plane, options, palette).run();
 }
 
 ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const cga::Vector<double>& plane,
@@ -416,7 +445,7 @@ ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const c
   require_placement_fits(model, placement);
   ModelCut out;
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    MeshCut mc = cut_mesh(model.meshes[i], placement.positions[i], plane, options);
+    MeshCut mc = cut_mesh(model.meshes[i], placement.positions[i], plane, options, &placement.palettes[i]);
     out.faces_in += static_cast<int>(model.meshes[i].face_count());
     out.intersection_points += mc.intersection_points;
     out.faces_split += mc.faces_split;
@@ -457,16 +486,18 @@ LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions&
     // in floats, the predicates X·Π in doubles; no face touching the plane may be missed.
     std::vector<int> near;
     index.bvh.faces_near_plane(n, d, 2 * tolerance + 1e-9 * index.bvh.diagonal(), near);
-    Cutter(model.meshes[i], live.placement().positions[i], plane, options, tolerance).separate(near, edits[i], pieces[i], out);
+    Cutter(model.meshes[i], live.placement().positions[i], plane, options, tolerance)
+        .separate(near, edits[i], pieces[i], out);
     for (const signed char p : pieces[i]) reached[static_cast<std::size_t>(p)] = true;
   }
-  if (!reached[0] && !reached[1]) throw TopologyError("cut: the plane crosses no face of the model (nothing to separate)");
+  if (!reached[0] && !reached[1])
+    throw TopologyError("cut: the plane crosses no face of the model (nothing to separate)");
   if (!reached[0] || !reached[1])
     throw TopologyError(std::string("cut: the plane only touches the model (no face on its ") +
                         (reached[0] ? "negative" : "positive") + " side there)");
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     if (edits[i].removed_faces.empty()) continue;
-    AppliedEdit applied = apply_edit_in_place(live, i, edits[i]);
+    AppliedEdit applied = apply_edit_in_place(live, i, edits[i], options.rest);
     out.new_vertices += static_cast<int>(applied.change.origins.size());
     out.changes.push_back(std::move(applied.change));
     out.piece_of_new_face.push_back(std::move(pieces[i]));

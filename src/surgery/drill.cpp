@@ -130,8 +130,16 @@ class Driller {
     Pass pass = analyse(seeds);
     std::vector<Rim> rims = find_rims(pass);
     int refinements = 0;
+    bool over_budget = false;
     while (too_coarse(pass, rims) && refinements < options_.max_refinements) {
-      refine(pass.affected);
+      // Only the faces the rim crosses are split: those wholly inside go anyway. A round
+      // splits each 1 -> 4 and some neighbours 1 -> 2.
+      const std::vector<int> red = rim_faces(pass);
+      if (faces_.size() + 6 * red.size() > static_cast<std::size_t>(options_.max_region_faces)) {
+        over_budget = true;
+        break;
+      }
+      refine(red);
       ++refinements;
       std::vector<int> alive;
       for (std::size_t f = 0; f < faces_.size(); ++f)
@@ -140,6 +148,10 @@ class Driller {
       rims = find_rims(pass);
     }
     const std::string name = "mesh '" + mesh_.name + "'";
+    if (over_budget)
+      out.warnings.push_back(name + ": refinement stopped after " + std::to_string(refinements) +
+                             " rounds: another would take the drilled region past max_region_faces = " +
+                             std::to_string(options_.max_region_faces));
     if (pass.disks_inside > 0)
       out.warnings.push_back(name + ": the drill lies inside a face even after " + std::to_string(refinements) +
                              " refinements; no hole there");
@@ -485,6 +497,16 @@ class Driller {
     return axis_side * polygon_side > 0 ? 2 * std::numbers::pi - phi : phi;
   }
 
+  /// The affected faces that keep a part (the rim crosses them, or the disk lies inside them).
+  [[nodiscard]] static std::vector<int> rim_faces(const Pass& pass) {
+    std::vector<int> out;
+    out.reserve(pass.polygons.size());
+    for (const auto& polygon : pass.polygons) out.push_back(polygon[0]);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
   [[nodiscard]] static int rim_points(const Rim& rim) {
     return static_cast<int>(rim.chords.size()) + (rim.closed ? 0 : 1);
   }
@@ -754,7 +776,25 @@ class Driller {
         add(pass.corners[static_cast<std::size_t>(first + t[0])], pass.corners[static_cast<std::size_t>(first + t[1])],
             pass.corners[static_cast<std::size_t>(first + t[2])]);
     }
-    for (const Triangle& t : tube) add(t[0], t[1], t[2]);
+    // The wall has its own copies of the rim vertices, with the tube's normals (area-weighted,
+    // in the placed pose), so that it is not shaded with the surface's.
+    std::vector<Eigen::Vector3d> wall_normal(vertices_.size(), Eigen::Vector3d::Zero());
+    for (const Triangle& t : tube) {
+      const Eigen::Vector3d n =
+          (vertex(t[1]).placed - vertex(t[0]).placed).cross(vertex(t[2]).placed - vertex(t[0]).placed);
+      for (const int x : t) wall_normal[static_cast<std::size_t>(x)] += n;
+    }
+    std::vector<int> wall_ids(vertices_.size(), -1);
+    const auto wall_vertex = [&](int x) {
+      int& id = wall_ids[static_cast<std::size_t>(x)];
+      if (id < 0) {
+        const Vertex& v = vertex(x);
+        id = edit.add_vertex(v.old >= 0 ? VertexSource::copy(v.old) : v.source, v.placed, nv_, 0,
+                             wall_normal[static_cast<std::size_t>(x)].normalized());
+      }
+      return id;
+    };
+    for (const Triangle& t : tube) edit.new_faces.push_back({wall_vertex(t[0]), wall_vertex(t[1]), wall_vertex(t[2])});
     for (std::size_t x = 0; x < ids.size(); ++x)
       out.intersection_points += ids[x] >= 0 && vertices_[x].crossing ? 1 : 0;
   }
@@ -783,13 +823,20 @@ void require_finite(const Eigen::Vector3d& p, const char* what) {
 }
 
 /// The drill as a Cylinder, after checking its parameters and options.
-Cylinder make_cylinder(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
+Cylinder make_cylinder(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
+                       const DrillOptions& options) {
   require_finite(tip, "tip");
   require_finite(base, "base");
   if (!(radius > 0) || !std::isfinite(radius)) throw InvalidInputError("drill: the radius must be a finite number > 0");
   if (!((tip - base).norm() > 0)) throw InvalidInputError("drill: the tip and the base are the same point");
-  if (options.min_rim_points < 3) throw InvalidInputError("drill: min_rim_points must be at least 3");
-  if (options.max_refinements < 0) throw InvalidInputError("drill: max_refinements must be >= 0");
+  if (options.min_rim_points < 3 || options.min_rim_points > kMaxRimPoints)
+    throw InvalidInputError("drill: min_rim_points must be in [3, " + std::to_string(kMaxRimPoints) + "], got " +
+                            std::to_string(options.min_rim_points));
+  if (options.max_refinements < 0 || options.max_refinements > kMaxRefinements)
+    throw InvalidInputError("drill: max_refinements must be in [0, " + std::to_string(kMaxRefinements) + "], got " +
+                            std::to_string(options.max_refinements));
+  if (options.max_region_faces < 1)
+    throw InvalidInputError("drill: max_region_faces must be >= 1, got " + std::to_string(options.max_region_faces));
   if (!(options.snap >= 0) || !std::isfinite(options.snap)) throw InvalidInputError("drill: snap must be >= 0");
   Cylinder c;
   c.base = base;
@@ -805,7 +852,8 @@ Cylinder make_cylinder(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, 
 
 /// Per mesh, the faces the axis segment [B, A] pierces.
 /// @throws TopologyError when it pierces none.
-std::vector<std::vector<mesh::SegmentHit>> axis_hits(const SurfaceIndex& index, const Cylinder& c, const Eigen::Vector3d& tip) {
+std::vector<std::vector<mesh::SegmentHit>> axis_hits(const SurfaceIndex& index, const Cylinder& c,
+                                                     const Eigen::Vector3d& tip) {
   std::vector<std::vector<mesh::SegmentHit>> hits(index.meshes.size());
   bool any = false;
   for (std::size_t i = 0; i < index.meshes.size(); ++i) {
@@ -816,8 +864,22 @@ std::vector<std::vector<mesh::SegmentHit>> axis_hits(const SurfaceIndex& index, 
   return hits;
 }
 
+/// Whether an edit changes its mesh: a face that a disk inside it left as it was is re-emitted
+/// unchanged, with no new vertex.
+bool changes(const LocalEdit& edit) {
+  return !edit.new_vertices.empty() || edit.new_faces.size() != edit.removed_faces.size();
+}
+
+/// @throws TopologyError when none of the edits changes its mesh.
+void require_change(const std::vector<bool>& changed, const DrillStats& stats) {
+  if (std::find(changed.begin(), changed.end(), true) != changed.end()) return;
+  throw TopologyError("drill: the drill changes nothing" +
+                      (stats.warnings.empty() ? std::string() : " (" + stats.warnings.front() + ")"));
+}
+
 int blended_count(const std::vector<mesh::VertexSource>& origins) {
-  return static_cast<int>(std::count_if(origins.begin(), origins.end(), [](const mesh::VertexSource& o) { return o.count() > 1; }));
+  return static_cast<int>(
+      std::count_if(origins.begin(), origins.end(), [](const mesh::VertexSource& o) { return o.count() > 1; }));
 }
 
 }  // namespace
@@ -829,6 +891,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
   require_index_fits(model, index, "drill");
   const auto hits = axis_hits(index, c, tip);
   ModelDrill out;
+  std::vector<bool> changed(model.meshes.size(), false);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
     out.faces_in += static_cast<int>(m.face_count());
@@ -844,8 +907,9 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     }
     LocalEdit edit;
     Driller(m, placement.positions[i], index.meshes[i], c, options).run(hits[i], edit, out);
+    changed[i] = changes(edit);
     out.faces_removed += static_cast<int>(edit.removed_faces.size());
-    EditedMesh e = apply_edit(m, placement.positions[i], edit);
+    EditedMesh e = apply_edit(m, placement.positions[i], placement.palettes[i], edit, options.rest);
     out.new_vertices += blended_count(e.origins);
     if (e.mesh.face_count() == 0) {
       out.warnings.push_back("mesh '" + m.name + "' is drilled away entirely");
@@ -857,6 +921,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     out.origins.push_back(std::move(e.origins));
     out.placed.push_back(std::move(e.placed));
   }
+  require_change(changed, out);
   copy_rig(model, out.model);
   return out;
 }
@@ -872,14 +937,19 @@ LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector
   out.faces_in = face_total(model);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     if (hits[i].empty()) continue;
-    Driller(model.meshes[i], live.placement().positions[i], live.index().meshes[i], c, options).run(hits[i], edits[i], out);
+    Driller(model.meshes[i], live.placement().positions[i], live.index().meshes[i], c, options)
+        .run(hits[i], edits[i], out);
     out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
   }
+  std::vector<bool> changed(edits.size());
+  std::transform(edits.begin(), edits.end(), changed.begin(), changes);
+  require_change(changed, out);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     if (hits[i].empty()) continue;
-    AppliedEdit applied = apply_edit_in_place(live, i, edits[i]);
+    AppliedEdit applied = apply_edit_in_place(live, i, edits[i], options.rest);
     out.new_vertices += blended_count(applied.change.origins);
-    if (model.meshes[i].face_count() == 0) out.warnings.push_back("mesh '" + model.meshes[i].name + "' is drilled away entirely");
+    if (model.meshes[i].face_count() == 0)
+      out.warnings.push_back("mesh '" + model.meshes[i].name + "' is drilled away entirely");
     out.changes.push_back(std::move(applied.change));
   }
   out.faces_out = face_total(model);

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "cgamesh/errors.hpp"
+
 #include "surgery_common.hpp"
 
 namespace cgamesh::surgery {
@@ -17,7 +18,8 @@ LiveModel::LiveModel(anim::RiggedModel model, Placement placement)
   reserve_headroom();
 }
 
-LiveModel::LiveModel(const LiveModel& other) : model_(other.model_), placement_(other.placement_), index_(other.index_) {
+LiveModel::LiveModel(const LiveModel& other)
+    : model_(other.model_), placement_(other.placement_), index_(other.index_) {
   reserve_headroom();  // a copied vector has no spare capacity
 }
 
@@ -239,7 +241,7 @@ SlotPlan plan_slots_by_parent(const std::vector<int>& removed, const std::vector
 
 }  // namespace
 
-AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit,
+AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit, RestPosition rest,
                                 const std::function<void(const AppliedEdit&)>& adjust) {
   mesh::Mesh& m = detail::LiveAccess::mesh(live, i);
   RowMatrixXf<3>& placed = detail::LiveAccess::placed(live, i);
@@ -248,7 +250,8 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   // Removed faces by id (a hash, not a binary search: its branches mispredict).
   FlatMap<int> rank;
   rank.reserve(removed.size());
-  for (std::size_t r = 0; r < removed.size(); ++r) rank.try_emplace(static_cast<std::uint64_t>(removed[r]), static_cast<int>(r));
+  for (std::size_t r = 0; r < removed.size(); ++r)
+    rank.try_emplace(static_cast<std::uint64_t>(removed[r]), static_cast<int>(r));
   const auto is_removed = [&](int f) { return rank.find(static_cast<std::uint64_t>(f)) != nullptr; };
   if (!edit.new_face_parent.empty() &&
       (edit.new_face_parent.size() != edit.new_faces.size() ||
@@ -277,6 +280,9 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   placed.conservativeResize(m.vertex_count(), Eigen::NoChange);
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
     if (out.fresh[k] >= 0) placed.row(out.fresh[k]) = edit.new_placed[k].cast<float>().transpose();
+  solve_rest_positions(m, live.placement().palettes[i], placed, out.change.origins, nv, rest);
+  for (std::size_t k = 0; k < out.fresh.size(); ++k)
+    if (out.fresh[k] >= 0) set_placed_normal(m, live.placement().palettes[i], out.fresh[k], edit.new_normal[k]);
 
   // Adjacency entries of untouched faces that point into the removed ones: found again below.
   std::vector<std::pair<int, int>> open_entries;
@@ -284,7 +290,8 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
     for (const int g : index.neighbor[static_cast<std::size_t>(r)])
       if (g >= 0 && !is_removed(g))
         for (int j = 0; j < 3; ++j)
-          if (index.neighbor[static_cast<std::size_t>(g)][static_cast<std::size_t>(j)] == r) open_entries.emplace_back(g, j);
+          if (index.neighbor[static_cast<std::size_t>(g)][static_cast<std::size_t>(j)] == r)
+            open_entries.emplace_back(g, j);
   std::sort(open_entries.begin(), open_entries.end());  // a face next to a removed one twice
   open_entries.erase(std::unique(open_entries.begin(), open_entries.end()), open_entries.end());
 
@@ -339,8 +346,10 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   const auto add_edge = [&](int f, int k) {
     const int a = index.weld[static_cast<std::size_t>(m.faces(f, k))];
     const int b = index.weld[static_cast<std::size_t>(m.faces(f, (k + 1) % 3))];
-    if (a != b) edges.push_back({edge_key(a, b), 3 * f + k, a < b});
-    else index.neighbor[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = -1;
+    if (a != b)
+      edges.push_back({edge_key(a, b), 3 * f + k, a < b});
+    else
+      index.neighbor[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = -1;
   };
   for (const int f : ids)
     for (int k = 0; k < 3; ++k) add_edge(f, k);

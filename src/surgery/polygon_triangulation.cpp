@@ -1,14 +1,18 @@
 #include "polygon_triangulation.hpp"
 
-#include <deque>
-#include <string>
-
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include "cgamesh/errors.hpp"
+
+#include "surgery_common.hpp"
 
 namespace cgamesh::surgery::detail {
 namespace {
@@ -19,7 +23,8 @@ using FaceInfoBase = CGAL::Triangulation_face_base_with_info_2<int, Kernel>;  //
 using FaceBase = CGAL::Constrained_triangulation_face_base_2<Kernel, FaceInfoBase>;
 using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 // Constraints may meet at vertices; a proper crossing throws instead of inventing a vertex.
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds,
+                                                       CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
 /// Nesting level of every finite face: 0 outside all loops, +1 per constraint crossed (the
 /// flood fill of CGAL's polygon-with-holes example).
@@ -65,7 +70,8 @@ void build_cdt(Cdt& cdt, std::span<const Eigen::Vector2d> points, std::span<cons
   }
   try {
     for (const auto& e : edges)
-      if (e[0] != e[1]) cdt.insert_constraint(handles[static_cast<std::size_t>(e[0])], handles[static_cast<std::size_t>(e[1])]);
+      if (e[0] != e[1])
+        cdt.insert_constraint(handles[static_cast<std::size_t>(e[0])], handles[static_cast<std::size_t>(e[1])]);
   } catch (const Cdt::Intersection_of_constraints_exception&) {
     throw TopologyError(what);
   }
@@ -84,6 +90,59 @@ std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2
     out.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   }
   return out;
+}
+
+std::vector<std::array<int, 3>> triangulate_loops_that_can_be(std::span<const Eigen::Vector2d> points,
+                                                              std::span<const std::array<int, 2>> edges,
+                                                              int& left_out) {
+  left_out = 0;
+  try {
+    return triangulate_loops(points, edges);
+  } catch (const TopologyError&) {
+    // Find the loops that are to blame, below.
+  }
+  UnionFind components(points.size());
+  for (const auto& e : edges) components.unite(e[0], e[1]);
+  std::vector<int> loop_of(points.size(), -1);
+  std::vector<std::vector<std::array<int, 2>>> loops;
+  for (const auto& e : edges) {
+    int& l = loop_of[static_cast<std::size_t>(components.find(e[0]))];
+    if (l < 0) {
+      l = static_cast<int>(loops.size());
+      loops.emplace_back();
+    }
+    loops[static_cast<std::size_t>(l)].push_back(e);
+  }
+  const auto triangulates = [&](const std::vector<std::array<int, 2>>& set) {
+    try {
+      (void)triangulate_loops(points, set);
+      return true;
+    } catch (const TopologyError&) {
+      return false;
+    }
+  };
+  std::vector<char> keep(loops.size(), 0);
+  std::vector<Eigen::AlignedBox2d> box(loops.size());
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    for (const auto& e : loops[l]) box[l].extend(points[static_cast<std::size_t>(e[0])]);
+    keep[l] = triangulates(loops[l]) ? 1 : 0;
+  }
+  // Loops that cross each other: only pairs whose boxes meet can.
+  for (std::size_t a = 0; a < loops.size(); ++a)
+    for (std::size_t b = a + 1; b < loops.size(); ++b) {
+      if (keep[a] == 0 || keep[b] == 0 || !box[a].intersects(box[b])) continue;
+      std::vector<std::array<int, 2>> pair = loops[a];
+      pair.insert(pair.end(), loops[b].begin(), loops[b].end());
+      if (!triangulates(pair)) keep[a] = keep[b] = 0;
+    }
+  std::vector<std::array<int, 2>> kept;
+  for (std::size_t l = 0; l < loops.size(); ++l)
+    if (keep[l] != 0)
+      kept.insert(kept.end(), loops[l].begin(), loops[l].end());
+    else
+      ++left_out;
+  // Every crossing is within one loop or between two: the rest triangulate together.
+  return triangulate_loops(points, kept);
 }
 
 std::vector<std::array<int, 3>> triangulate_constrained(std::span<const Eigen::Vector2d> points,

@@ -20,6 +20,16 @@ namespace cgamesh::surgery::detail {
 [[nodiscard]] std::vector<std::array<int, 3>> triangulate_loops(std::span<const Eigen::Vector2d> points,
                                                                 std::span<const std::array<int, 2>> edges);
 
+/// The loops that can be triangulated together, triangulated as triangulate_loops() does: a
+/// loop that crosses itself is left out, and so are two loops that cross each other (loops
+/// are the connected components of `edges`).
+/// @param[out] left_out  the number of loops left out
+/// @throws TopologyError only where triangulate_loops() fails on loops that triangulate alone
+///         and pairwise (not seen).
+[[nodiscard]] std::vector<std::array<int, 3>> triangulate_loops_that_can_be(std::span<const Eigen::Vector2d> points,
+                                                                            std::span<const std::array<int, 2>> edges,
+                                                                            int& left_out);
+
 /// Constrained Delaunay triangulation of `points` with `segments` as edges (CGAL): every
 /// triangle of their convex hull, counter-clockwise. Points at the same place are merged (the
 /// triangles use the first index).

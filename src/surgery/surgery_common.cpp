@@ -10,6 +10,7 @@
 #include <utility>
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/products.hpp"
@@ -52,9 +53,7 @@ std::size_t PositionHash::operator()(const std::array<float, 3>& p) const noexce
          (static_cast<std::size_t>(bits[2]) * 83492791u);
 }
 
-int PositionWelder::operator()(int v) {
-  return *first_.try_emplace(position_key(positions_, v), v).first;
-}
+int PositionWelder::operator()(int v) { return *first_.try_emplace(position_key(positions_, v), v).first; }
 
 UnionFind::UnionFind(std::size_t n) : parent_(n) {
   for (std::size_t a = 0; a < n; ++a) parent_[a] = static_cast<int>(a);
@@ -149,14 +148,39 @@ std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& e
       throw InvalidInputError("surgery: removed face " + std::to_string(removed[i]) + " out of range or repeated");
   for (const auto& t : edit.new_faces)
     for (int x : t)
-      if (x < 0 || x >= total) throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
-  if (edit.new_placed.size() != edit.new_vertices.size())
+      if (x < 0 || x >= total)
+        throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
+  if (edit.new_placed.size() != edit.new_vertices.size() || edit.new_normal.size() != edit.new_vertices.size())
     throw InvalidInputError("surgery: the edit has a placed position for " + std::to_string(edit.new_placed.size()) +
                             " of its " + std::to_string(edit.new_vertices.size()) + " new vertices");
   return removed;
 }
 
-EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit) {
+void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, const mesh::RowMatrixXf<3>& placed,
+                          std::span<const mesh::VertexSource> origins, Eigen::Index first, RestPosition rest) {
+  if (rest == RestPosition::parametric) return;
+  for (std::size_t k = 0; k < origins.size(); ++k) {
+    if (origins[k].count() == 1) continue;
+    const Eigen::Index v = first + static_cast<Eigen::Index>(k);
+    const Eigen::Matrix<double, 3, 4> a = anim::blended_affine(m, palette, v);
+    const Eigen::Matrix3d l = a.leftCols<3>();
+    // A blend of joints that collapse space (a zero scale) has no inverse: keep the parametric point.
+    const double scale = l.cwiseAbs().maxCoeff();
+    if (!(std::abs(l.determinant()) > 1e-12 * scale * scale * scale)) continue;
+    const Eigen::Vector3d p = placed.row(v).cast<double>().transpose();
+    m.positions.row(v) = l.partialPivLu().solve(p - a.col(3)).cast<float>().transpose();
+  }
+}
+
+void set_placed_normal(mesh::Mesh& m, const anim::SkinningPalette& palette, Eigen::Index v,
+                       const Eigen::Vector3d& placed_normal) {
+  if (m.normals.rows() == 0 || !(placed_normal.squaredNorm() > 0)) return;
+  const Eigen::Vector3d n = anim::blended_affine(m, palette, v).leftCols<3>().transpose() * placed_normal;
+  if (n.squaredNorm() > 0) m.normals.row(v) = n.normalized().cast<float>().transpose();
+}
+
+EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const anim::SkinningPalette& palette,
+                      const LocalEdit& edit, RestPosition rest) {
   const auto nv = static_cast<int>(old.vertex_count());
   const auto nf = old.face_count();
   const int total = nv + static_cast<int>(edit.new_vertices.size());
@@ -222,6 +246,11 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
     fresh_placed.row(static_cast<Eigen::Index>(i)) =
         edit.new_placed[static_cast<std::size_t>(fresh[i] - nv)].cast<float>().transpose();
   out.placed = stack_rows(placed, kept, all, fresh_placed);
+  solve_rest_positions(m, palette, out.placed, std::span(out.origins).subspan(kept.size()),
+                       static_cast<Eigen::Index>(kept.size()), rest);
+  for (std::size_t i = 0; i < fresh.size(); ++i)
+    set_placed_normal(m, palette, static_cast<Eigen::Index>(kept.size() + i),
+                      edit.new_normal[static_cast<std::size_t>(fresh[i] - nv)]);
   out.vertex_of = std::move(remap);
   return out;
 }

@@ -4,12 +4,14 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/multivector.hpp"
 #include "cgamesh/cga/products.hpp"
@@ -18,6 +20,7 @@
 #include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
+
 #include "flat_map.hpp"
 
 namespace cgamesh::surgery {
@@ -29,7 +32,9 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 /// Key of the undirected edge {a, b}.
-[[nodiscard]] inline std::uint64_t edge_key(int a, int b) noexcept { return a < b ? directed_key(a, b) : directed_key(b, a); }
+[[nodiscard]] inline std::uint64_t edge_key(int a, int b) noexcept {
+  return a < b ? directed_key(a, b) : directed_key(b, a);
+}
 
 /// Signed distance of the point x from the plane n·x = d: X·Π with X = up(x) and Π = n + d e∞
 /// (cga), or n·x − d (euclidean).
@@ -91,18 +96,22 @@ struct LocalEdit {
   /// Per new vertex: the side of a separation (cut or tear) it is a copy for, ±1, or 0. Copies
   /// for different sides never weld in the index, though they may share a rest position.
   std::vector<signed char> new_side;
-  std::vector<int> removed_faces;                ///< old faces dropped (each once)
-  std::vector<std::array<int, 3>> new_faces;     ///< over extended ids
+  /// Per new vertex: its placed unit normal where it has one of its own (a hole's wall), else
+  /// zero (blended from its origin like its other attributes).
+  std::vector<Eigen::Vector3d> new_normal;
+  std::vector<int> removed_faces;             ///< old faces dropped (each once)
+  std::vector<std::array<int, 3>> new_faces;  ///< over extended ids
   /// Per new face: the removed face it lies in, when every new face has one (it may fill that
   /// face's slot in place); empty otherwise.
   std::vector<int> new_face_parent;
 
   /// Adds a new vertex; returns its extended id.
   int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count,
-                 signed char side = 0) {
+                 signed char side = 0, const Eigen::Vector3d& normal = Eigen::Vector3d::Zero()) {
     new_vertices.push_back(source);
     new_placed.push_back(placed);
     new_side.push_back(side);
+    new_normal.push_back(normal);
     return old_vertex_count + static_cast<int>(new_vertices.size()) - 1;
   }
 };
@@ -123,7 +132,9 @@ struct EditedMesh {
 /// The old faces that are not removed, in their order, then the new faces; vertices no face
 /// uses are dropped, the others keep their relative order (old ones first).
 /// @throws InvalidInputError for an id out of range.
-[[nodiscard]] EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const LocalEdit& edit);
+/// New vertices get rest positions by `rest` against `palette` (see solve_rest_positions).
+[[nodiscard]] EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
+                                    const anim::SkinningPalette& palette, const LocalEdit& edit, RestPosition rest);
 
 namespace detail {
 
@@ -156,8 +167,25 @@ struct AppliedEdit {
 /// in the mesh, before the index is brought up to date.
 /// @throws InvalidInputError for an id out of range or a new face's parent that is not removed,
 ///         before anything is changed.
-[[nodiscard]] AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit,
+[[nodiscard]] AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit, RestPosition rest,
                                               const std::function<void(const AppliedEdit&)>& adjust = {});
+
+/// Rest positions of the blended vertices of `m` (rows first + k whose origins[k] is a point on
+/// an edge or a face; copies of old vertices keep theirs). `exact`: the solution x of
+/// A x + b = p, with A x + b the vertex's blended map (anim::blended_affine) and p its placed
+/// position, so that eq. (17) takes it back onto the tool; `parametric`: left as resample()
+/// blended them.
+/// @param[in,out] m        the edited mesh, its new vertices' weights already set
+/// @param[in]     palette  the `cga` palette the placement was skinned with
+/// @param[in]     placed   #V×3 placed positions of m
+void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, const mesh::RowMatrixXf<3>& placed,
+                          std::span<const mesh::VertexSource> origins, Eigen::Index first, RestPosition rest);
+
+/// Sets the rest normal of vertex v of `m` so that skinning turns it into `placed_normal`
+/// (anim::skin_normals maps n by the cofactor of the blended linear map L, so n = Lᵀ n′). A zero
+/// `placed_normal`, or a mesh without normals, leaves it as it is.
+void set_placed_normal(mesh::Mesh& m, const anim::SkinningPalette& palette, Eigen::Index v,
+                       const Eigen::Vector3d& placed_normal);
 
 /// Faces of all meshes of `model`.
 [[nodiscard]] int face_total(const anim::RiggedModel& model);

@@ -15,6 +15,7 @@
 #include "cgamesh/cga/operations.hpp"
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/errors.hpp"
+
 #include "polygon_triangulation.hpp"
 #include "surgery_common.hpp"
 
@@ -33,11 +34,13 @@ struct PathPoint {
   int corner = -1;  ///< vertex: its corner in `face`; edge: the edge k (corner k to k+1)
   std::array<double, 3> bary{0, 0, 0};
   Eigen::Vector3d x = Eigen::Vector3d::Zero();  ///< placed position
-  int segment_face = -1;  ///< the input face holding the segment from the previous point
-  int step = 0;           ///< the scalpel step whose plane it lies on
+  int segment_face = -1;                        ///< the input face holding the segment from the previous point
+  int step = 0;                                 ///< the scalpel step whose plane it lies on
 
   /// 0–2: a corner, 3–5: an edge, 6: the interior of `face`.
-  [[nodiscard]] int feature() const noexcept { return kind == Kind::vertex ? corner : kind == Kind::edge ? 3 + corner : 6; }
+  [[nodiscard]] int feature() const noexcept {
+    return kind == Kind::vertex ? corner : kind == Kind::edge ? 3 + corner : 6;
+  }
 };
 
 /// Π of one step, as the CGA vector n + d e∞ and as (n, d).
@@ -50,8 +53,8 @@ struct StepPlane {
 /// One direction of the search for the surface path along Π.
 struct Walker {
   int face = -1;
-  int entry = 6;   ///< feature of `face` the walker entered by
-  int forced = -1; ///< at the start inside a face: which of the two crossings to leave by
+  int entry = 6;    ///< feature of `face` the walker entered by
+  int forced = -1;  ///< at the start inside a face: which of the two crossings to leave by
   std::vector<PathPoint> points;
   double length = 0;
   int steps = 0;
@@ -91,10 +94,17 @@ class Tearer {
 
   /// Re-triangulates the faces the path crosses and duplicates the path vertices (edit());
   /// returns the number of faces split.
+  /// @throws TopologyError when that changes nothing.
   int prepare(const std::vector<PathPoint>& path) {
     retriangulate(path);
     const int faces_split = static_cast<int>(edit_.removed_faces.size());
     duplicate(path);
+    const bool opens =
+        options_.open > 0 && std::any_of(copies_.begin(), copies_.end(), [](const auto& c) { return !c.empty(); });
+    if (faces_split == 0 && edit_.new_vertices.empty() && !opens)
+      throw TopologyError("tear: the path runs along edges where mesh '" + mesh_.name +
+                          "' is split already (its faces there share no vertices), so the tear changes nothing; "
+                          "give an opening width to move the two sides apart");
     return faces_split;
   }
 
@@ -132,15 +142,9 @@ class Tearer {
   /// Moves placed vertex v by `shift`, and its rest position by the inverse of its blended
   /// skinning map.
   void move_vertex(mesh::Mesh& m, RowMatrixXf<3>& placed, int v, const Eigen::Vector3d& shift) const {
-    const Eigen::Vector3f delta = shift.cast<float>();
-    placed.row(v) += delta.transpose();
-    Eigen::Matrix3f linear = Eigen::Matrix3f::Zero();
-    if (m.skin.empty()) {
-      linear = palette_.affine.front().leftCols<3>();
-    } else {
-      for (int k = 0; k < 4; ++k) linear += m.skin.weights(v, k) * palette_.affine[m.skin.joints(v, k)].leftCols<3>();
-    }
-    m.positions.row(v) += linear.colPivHouseholderQr().solve(delta).transpose();
+    placed.row(v) += shift.cast<float>().transpose();
+    const Eigen::Matrix3d linear = anim::blended_affine(m, palette_, v).leftCols<3>();
+    m.positions.row(v) += linear.colPivHouseholderQr().solve(shift).cast<float>().transpose();
   }
 
   // ---- geometry ----------------------------------------------------------------------------
@@ -201,8 +205,9 @@ class Tearer {
     const cga::Vector<double> dual = cga::dual(outer);
     const double scale = (blade.handle - s.x).norm() * (blade.tip - s.x).norm();
     if (!(Eigen::Vector3d(dual[0], dual[1], dual[2]).norm() > 1e-12 * scale))
-      throw InvalidInputError("tear: at step " + std::to_string(step + 1) + " the blade's line passes through the entry point " +
-                              "of step " + std::to_string(step) + "; the plane of the tear is undefined");
+      throw InvalidInputError("tear: at step " + std::to_string(step + 1) +
+                              " the blade's line passes through the entry point " + "of step " + std::to_string(step) +
+                              "; the plane of the tear is undefined");
     const auto [n, d] = cga::plane_parameters(dual);
     return {cga::plane(n, d), n, d};
   }
@@ -220,8 +225,8 @@ class Tearer {
   /// Signed distance of vertex v from Π: X·Π (cga) or n·x − d, 0 within the tolerance.
   [[nodiscard]] double distance(const StepPlane& p, int v) const {
     const Eigen::Vector3d x = position(v);
-    const double s = options_.predicates == Predicates::cga ? cga::scalar_product(cga::up<double>(x), p.pi)
-                                                           : p.n.dot(x) - p.d;
+    const double s =
+        options_.predicates == Predicates::cga ? cga::scalar_product(cga::up<double>(x), p.pi) : p.n.dot(x) - p.d;
     return std::abs(s) <= tol_ ? 0.0 : s;
   }
 
@@ -436,8 +441,8 @@ class Tearer {
       s = VertexSource::edge(va, vc, static_cast<float>(t));
     } else {
       key = {f, -1, -2, i};
-      s = VertexSource::face(corner(f, 0), corner(f, 1), corner(f, 2), static_cast<float>(b[0]), static_cast<float>(b[1]),
-                             static_cast<float>(b[2]));
+      s = VertexSource::face(corner(f, 0), corner(f, 1), corner(f, 2), static_cast<float>(b[0]),
+                             static_cast<float>(b[1]), static_cast<float>(b[2]));
     }
     const auto [it, added] = vertex_of_point_.try_emplace(key, -1);
     if (added) {
@@ -510,8 +515,8 @@ class Tearer {
       try {
         tris = detail::triangulate_constrained(pts, segments);
       } catch (const TopologyError&) {
-        throw TopologyError("tear: the tear path crosses itself in face " + std::to_string(f) +
-                            " of mesh '" + mesh_.name + "'");
+        throw TopologyError("tear: the tear path crosses itself in face " + std::to_string(f) + " of mesh '" +
+                            mesh_.name + "'");
       }
       edit_.removed_faces.push_back(f);
       for (const Triangle& t : tris) {
@@ -577,25 +582,35 @@ class Tearer {
         }
       }
       std::map<int, int> group_of_root;
-      for (std::size_t a = 0; a < faces.size(); ++a) group_of_root.try_emplace(root(static_cast<int>(a)), static_cast<int>(group_of_root.size()));
+      for (std::size_t a = 0; a < faces.size(); ++a)
+        group_of_root.try_emplace(root(static_cast<int>(a)), static_cast<int>(group_of_root.size()));
       if (group_of_root.size() < 2) continue;
       const StepPlane& plane = planes_[static_cast<std::size_t>(path[static_cast<std::size_t>(i)].step)];
       // Side of each group: where its faces' other vertices lie relative to Π.
       std::vector<double> side(group_of_root.size(), 0.0);
       for (std::size_t a = 0; a < faces.size(); ++a)
         for (const int x : edit_.new_faces[static_cast<std::size_t>(faces[a])])
-          if (key(x) != k) side[static_cast<std::size_t>(group_of_root[root(static_cast<int>(a))])] += signed_offset(plane, x);
+          if (key(x) != k)
+            side[static_cast<std::size_t>(group_of_root[root(static_cast<int>(a))])] += signed_offset(plane, x);
       std::vector<int> sign(side.size());
       for (std::size_t g = 0; g < side.size(); ++g) sign[g] = side[g] > 0 ? 1 : side[g] < 0 ? -1 : (g == 0 ? 1 : -1);
       if (sign.size() == 2 && sign[0] == sign[1]) sign[1] = -sign[0];
+      // A vertex the faces of one group alone use (a seam copy, or a mesh without shared
+      // vertices) is that group's already: only one that several groups share is copied.
+      std::map<int, std::set<int>> groups_of;  // extended id -> the groups using it
+      for (std::size_t a = 0; a < faces.size(); ++a)
+        for (const int x : edit_.new_faces[static_cast<std::size_t>(faces[a])])
+          if (key(x) == k) groups_of[x].insert(group_of_root[root(static_cast<int>(a))]);
       std::map<std::pair<int, int>, int> copy_of;  // (group, extended id) -> its copy
       for (std::size_t a = 0; a < faces.size(); ++a) {
         const int g = group_of_root[root(static_cast<int>(a))];
         for (int& x : edit_.new_faces[static_cast<std::size_t>(faces[a])]) {
           if (key(x) != k) continue;
           const auto [it, added] = copy_of.try_emplace({g, x}, x);
-          if (added && g > 0) {
-            const VertexSource s = x < nv_ ? VertexSource::copy(x) : edit_.new_vertices[static_cast<std::size_t>(x - nv_)];
+          const std::set<int>& users = groups_of[x];
+          if (added && users.size() > 1 && g != *users.begin()) {
+            const VertexSource s =
+                x < nv_ ? VertexSource::copy(x) : edit_.new_vertices[static_cast<std::size_t>(x - nv_)];
             const Eigen::Vector3d y = x < nv_ ? placed_.row(x).cast<double>().transpose()
                                               : edit_.new_placed[static_cast<std::size_t>(x - nv_)];
             it->second = edit_.add_vertex(s, y, nv_, static_cast<signed char>(sign[static_cast<std::size_t>(g)]));
@@ -606,7 +621,9 @@ class Tearer {
       }
       for (const auto& [gx, x] : copy_of) {
         copies_[static_cast<std::size_t>(i)].push_back({x, sign[static_cast<std::size_t>(gx.first)]});
-        if (options_.own_side_influences && x >= nv_) restrict_influences(edit_.new_vertices[static_cast<std::size_t>(x - nv_)], plane, sign[static_cast<std::size_t>(gx.first)]);
+        if (options_.own_side_influences && x >= nv_)
+          restrict_influences(edit_.new_vertices[static_cast<std::size_t>(x - nv_)], plane,
+                              sign[static_cast<std::size_t>(gx.first)]);
       }
     }
   }
@@ -652,7 +669,8 @@ auto trace_tear(const anim::RiggedModel& model, const Placement& placement, cons
     if (!scalpel[i].handle.allFinite() || !scalpel[i].tip.allFinite())
       throw InvalidInputError("tear: scalpel step " + std::to_string(i) + " holds NaN or infinity");
     if (scalpel[i].handle == scalpel[i].tip)
-      throw InvalidInputError("tear: scalpel step " + std::to_string(i) + " has handle == tip (a blade of zero length)");
+      throw InvalidInputError("tear: scalpel step " + std::to_string(i) +
+                              " has handle == tip (a blade of zero length)");
   }
   const auto first_hit = [&](std::size_t m, const Scalpel& s) {
     const auto hits = index.meshes[m].bvh.segment_hits(s.handle, s.tip);
@@ -697,44 +715,47 @@ ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const
                std::span<const Scalpel> scalpel, const TearOptions& options) {
   require_placement_fits(model, placement);
   require_index_fits(model, index, "tear");
-  return trace_tear(model, placement, index, scalpel, options,
-                    [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
-                      ModelTear out;
-                      out.mesh = static_cast<int>(tm);
-                      record(out, model, path, tearer.prepare(path));
-                      EditedMesh edited = apply_edit(model.meshes[tm], placement.positions[tm], tearer.edit());
-                      const auto vertex_of = [&](int x) { return edited.vertex_of[static_cast<std::size_t>(x)]; };
-                      tearer.move_apart(path, edited.mesh, edited.placed, vertex_of);
-                      out.side.assign(static_cast<std::size_t>(edited.mesh.vertex_count()), 0);
-                      tearer.for_each_copy(vertex_of, [&](int v, signed char side) { out.side[static_cast<std::size_t>(v)] = side; });
-                      out.new_vertices = static_cast<int>(edited.mesh.vertex_count() - model.meshes[tm].vertex_count());
-                      // Everything but the torn mesh is copied as it is.
-                      copy_rig(model, out.model);
-                      for (std::size_t m = 0; m < model.meshes.size(); ++m)
-                        out.model.meshes.push_back(m == tm ? std::move(edited.mesh) : model.meshes[m]);
-                      out.origins = std::move(edited.origins);
-                      out.placed = std::move(edited.placed);
-                      out.faces_out = face_total(out.model);
-                      return out;
-                    });
+  return trace_tear(
+      model, placement, index, scalpel, options,
+      [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
+        ModelTear out;
+        out.mesh = static_cast<int>(tm);
+        record(out, model, path, tearer.prepare(path));
+        EditedMesh edited =
+            apply_edit(model.meshes[tm], placement.positions[tm], placement.palettes[tm], tearer.edit(), options.rest);
+        const auto vertex_of = [&](int x) { return edited.vertex_of[static_cast<std::size_t>(x)]; };
+        tearer.move_apart(path, edited.mesh, edited.placed, vertex_of);
+        out.side.assign(static_cast<std::size_t>(edited.mesh.vertex_count()), 0);
+        tearer.for_each_copy(vertex_of, [&](int v, signed char side) { out.side[static_cast<std::size_t>(v)] = side; });
+        out.new_vertices = static_cast<int>(edited.mesh.vertex_count() - model.meshes[tm].vertex_count());
+        // Everything but the torn mesh is copied as it is.
+        copy_rig(model, out.model);
+        for (std::size_t m = 0; m < model.meshes.size(); ++m)
+          out.model.meshes.push_back(m == tm ? std::move(edited.mesh) : model.meshes[m]);
+        out.origins = std::move(edited.origins);
+        out.placed = std::move(edited.placed);
+        out.faces_out = face_total(out.model);
+        return out;
+      });
 }
 
 LiveTear tear(LiveModel& live, std::span<const Scalpel> scalpel, const TearOptions& options) {
-  return trace_tear(live.model(), live.placement(), live.index(), scalpel, options,
-                    [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
-                      LiveTear out;
-                      record(out, live.model(), path, tearer.prepare(path));
-                      AppliedEdit applied = apply_edit_in_place(live, tm, tearer.edit(), [&](const AppliedEdit& a) {
-                        tearer.move_apart(path, detail::LiveAccess::mesh(live, tm), detail::LiveAccess::placed(live, tm),
-                                          [&](int x) { return a.vertex_of(x); });
-                      });
-                      tearer.for_each_copy([&](int x) { return applied.vertex_of(x); },
-                                           [&](int v, signed char side) { out.sides.emplace_back(v, side); });
-                      out.new_vertices = static_cast<int>(applied.change.origins.size());
-                      out.faces_out = face_total(live.model());
-                      out.change = std::move(applied.change);
-                      return out;
-                    });
+  return trace_tear(
+      live.model(), live.placement(), live.index(), scalpel, options,
+      [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
+        LiveTear out;
+        record(out, live.model(), path, tearer.prepare(path));
+        AppliedEdit applied = apply_edit_in_place(live, tm, tearer.edit(), options.rest, [&](const AppliedEdit& a) {
+          tearer.move_apart(path, detail::LiveAccess::mesh(live, tm), detail::LiveAccess::placed(live, tm),
+                            [&](int x) { return a.vertex_of(x); });
+        });
+        tearer.for_each_copy([&](int x) { return applied.vertex_of(x); },
+                             [&](int v, signed char side) { out.sides.emplace_back(v, side); });
+        out.new_vertices = static_cast<int>(applied.change.origins.size());
+        out.faces_out = face_total(live.model());
+        out.change = std::move(applied.change);
+        return out;
+      });
 }
 
 ModelTear tear(const anim::RiggedModel& model, const Placement& placement, std::span<const Scalpel> scalpel,

@@ -1,17 +1,18 @@
 // The surgery commands run as processes: JSON summaries, outputs that keep skin and clips, and
 // failures that exit with the documented code and write nothing (not even one of two pieces).
 
-#include <gtest/gtest.h>
-
 #include <string>
 #include <vector>
 
-#include "anim/model_fixtures.hpp"
-#include "apps/cli_util.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/surgery/placement.hpp"
+
+#include "anim/model_fixtures.hpp"
+#include "apps/cli_util.hpp"
 #include "support/js_oracles.hpp"
 #include "surgery/surgery_fixtures.hpp"
 
@@ -62,8 +63,14 @@ TEST(CliCut, ObjAndPlyOutputsHoldThePlacedSurfaceOnEachSide) {
 
 TEST(CliCut, EuclideanPredicatesGiveTheSameCounts) {
   TempDir dir;
-  const std::vector<std::string> base{"cut", demo_model().string(), "--plane", "1,0.3,0,0.02",
-                                      "-o",  (dir / "a.glb").string(), (dir / "b.glb").string(), "--json"};
+  const std::vector<std::string> base{"cut",
+                                      demo_model().string(),
+                                      "--plane",
+                                      "1,0.3,0,0.02",
+                                      "-o",
+                                      (dir / "a.glb").string(),
+                                      (dir / "b.glb").string(),
+                                      "--json"};
   std::vector<std::string> eu = base;
   eu.push_back("--euclidean");
   const nlohmann::json ga = parse_json(run_ok(dir, base)), e = parse_json(run_ok(dir, eu));
@@ -83,11 +90,12 @@ TEST(CliCut, FailuresWriteNothing) {
   expect_failure(f, {"cut", model, "--plane", "0,1,0,0.5", "-o", a.string()}, 2, "-o", a);
   expect_failure(f, {"cut", model, "--plane", "0,1,0,0.5", "--anim", "walk", "-o", a.string(), b.string()}, 2,
                  "no animation 'walk'", a);
-  expect_failure(f, {"cut", asset("spot.obj").string(), "--plane", "0,1,0,0.1", "--time", "1", "-o", a.string(),
-                     b.string()},
-                 2, "no animation", a);
+  expect_failure(
+      f, {"cut", asset("spot.obj").string(), "--plane", "0,1,0,0.1", "--time", "1", "-o", a.string(), b.string()}, 2,
+      "no animation", a);
   // The second piece cannot be written: the first must not appear either.
-  expect_failure(f, {"cut", model, "--plane", "0,1,0,0.5", "-o", a.string(), (f.outputs / "no/such/dir/b.glb").string()},
+  expect_failure(f,
+                 {"cut", model, "--plane", "0,1,0,0.5", "-o", a.string(), (f.outputs / "no/such/dir/b.glb").string()},
                  2, "cannot write", a);
   expect_failure(f, {"cut", (f.inputs / "missing.glb").string(), "--plane", "0,1,0,0.5", "-o", a.string(), b.string()},
                  3, "no such file", a);
@@ -101,8 +109,9 @@ std::string coords(const Eigen::Vector3d& p) {
 /// The centre of CesiumMan's torso (at 60% of its height) placed at `time` of its clip.
 Eigen::Vector3d torso_centre(double time) {
   const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(demo_model());
-  const auto placed = cgamesh::surgery::place(
-      m, cgamesh::anim::sample(m.skeleton, m.clips[0], time, cgamesh::anim::BlendMode::format)).positions[0];
+  const auto placed =
+      cgamesh::surgery::place(m, cgamesh::anim::sample(m.skeleton, m.clips[0], time, cgamesh::anim::BlendMode::format))
+          .positions[0];
   return cgamesh_test::torso_centre(placed);
 }
 
@@ -144,8 +153,9 @@ TEST(CliDrill, DrillsTheAnimatedModelThroughAndKeepsTheRig) {
 TEST(CliDrill, WallAndEuclideanPredicates) {
   TempDir dir;
   const auto [tip, base] = torso_drill(0.5);
-  const std::vector<std::string> args{"drill", demo_model().string(), "--tip", tip, "--base", base, "--radius", "0.03",
-                                      "--time", "0.5", "-o", (dir / "d.obj").string(), "--json"};
+  const std::vector<std::string> args{
+      "drill", demo_model().string(),    "--tip", tip, "--base", base, "--radius", "0.03", "--time", "0.5",
+      "-o",    (dir / "d.obj").string(), "--json"};
   std::vector<std::string> eu = args, wall = args;
   eu.push_back("--euclidean");
   wall.push_back("--wall");
@@ -172,9 +182,40 @@ TEST(CliDrill, FailuresWriteNothing) {
   expect_failure(f, {"drill", model, "--tip", "0,1", "--base", "0,1,-1", "--radius", "0.1", "-o", out.string()}, 2,
                  "expected 3", out);
   expect_failure(f, {"drill", model, "--tip", "0,1,1", "--base", "0,1,-1", "-o", out.string()}, 2, "--radius", out);
-  expect_failure(f, {"drill", (f.inputs / "missing.glb").string(), "--tip", "0,1,1", "--base", "0,1,-1", "--radius",
-                     "0.1", "-o", out.string()},
+  expect_failure(f,
+                 {"drill", (f.inputs / "missing.glb").string(), "--tip", "0,1,1", "--base", "0,1,-1", "--radius", "0.1",
+                  "-o", out.string()},
                  3, "no such file", out);
+  // Work that cannot make sense is refused before any is done.
+  const std::vector<std::string> drill{"drill",  model,      "--tip", "0,1,1", "--base",
+                                       "0,1,-1", "--radius", "0.1",   "-o",    out.string()};
+  for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{{"--min-rim-points", "1048576"},
+                                                                                      {"--max-refinements", "20"},
+                                                                                      {"--max-region-faces", "0"},
+                                                                                      {"--rest", "somewhere"}}) {
+    std::vector<std::string> args = drill;
+    args.push_back(option);
+    args.push_back(value);
+    expect_failure(f, args, 2, option, out);
+  }
+}
+
+// The rest position rule is an option of every surgery command, and the summary says which.
+TEST(CliDrill, RestPositionsExactByDefaultOrParametric) {
+  TempDir dir;
+  const Eigen::Vector3d c = torso_centre(0.5);
+  const std::vector<std::string> args{"drill",    demo_model().string(),
+                                      "--time",   "0.5",
+                                      "--tip",    coords(c + Eigen::Vector3d(0, 0, 1)),
+                                      "--base",   coords(c - Eigen::Vector3d(0, 0, 1)),
+                                      "--radius", "0.03",
+                                      "-o",       (dir / "d.glb").string(),
+                                      "--json"};
+  EXPECT_EQ(parse_json(run_ok(dir, args))["rest"], "exact");
+  std::vector<std::string> parametric = args;
+  parametric.push_back("--rest");
+  parametric.push_back("parametric");
+  EXPECT_EQ(parse_json(run_ok(dir, parametric))["rest"], "parametric");
 }
 
 /// A scalpel stroke over the front of CesiumMan's torso placed at `time`: 3 blade positions
@@ -195,7 +236,7 @@ TEST(CliTear, TearsTheAnimatedModelAndKeepsTheRig) {
   TempDir dir;
   const fs::path out = dir / "torn.glb";
   std::vector<std::string> args{"tear", demo_model().string(), "--anim", "0", "--time", "1.2", "--open", "0.01",
-                                "-o", out.string(), "--json"};
+                                "-o",   out.string(),          "--json"};
   for (const std::string& a : torso_stroke(1.2)) args.push_back(a);
   const nlohmann::json j = parse_json(run_ok(dir, args));
   EXPECT_GE(j["intersection_points"].get<int>(), 3);
@@ -219,7 +260,8 @@ TEST(CliTear, TearsTheAnimatedModelAndKeepsTheRig) {
 
 TEST(CliTear, EuclideanPredicatesGiveTheSamePath) {
   TempDir dir;
-  std::vector<std::string> args{"tear", demo_model().string(), "--time", "0.5", "-o", (dir / "t.ply").string(), "--json"};
+  std::vector<std::string> args{"tear", demo_model().string(),    "--time", "0.5",
+                                "-o",   (dir / "t.ply").string(), "--json"};
   for (const std::string& a : torso_stroke(0.5)) args.push_back(a);
   std::vector<std::string> eu = args;
   eu.push_back("--euclidean");
@@ -242,9 +284,18 @@ TEST(CliTear, FailuresWriteNothing) {
                  out);
   expect_failure(f, {"tear", model, "--scalpel", blade, "--scalpel", blade, "--open", "-1", "-o", out.string()}, 2,
                  "--open", out);
-  expect_failure(f, {"tear", (f.inputs / "missing.glb").string(), "--scalpel", blade, "--scalpel", blade, "-o",
-                     out.string()},
-                 3, "no such file", out);
+  expect_failure(
+      f, {"tear", (f.inputs / "missing.glb").string(), "--scalpel", blade, "--scalpel", blade, "-o", out.string()}, 3,
+      "no such file", out);
+  // A model whose faces share no vertices, torn along edges it has split already: nothing changes.
+  const fs::path wuson = cgamesh_test::assimp_model("X/Testwuson.X");
+  if (fs::exists(wuson))
+    expect_failure(f,
+                   {"tear", wuson.string(), "--anim", "0", "--time", "0.1063", "--scalpel",
+                    "0.08496656,1.1456598,1.3966679,0.08581335,1.0641147,1.3391586", "--scalpel",
+                    "0.09564638,1.1972935,1.3246605,0.07510358,1.1028301,1.2999157", "--scalpel",
+                    "0.092015105,1.2266289,1.2105637,0.073164837,1.1315791,1.1867342", "-o", out.string()},
+                   4, "changes nothing", out);
 }
 
 }  // namespace

@@ -2,13 +2,13 @@
 // scratch over the same triangles does.
 #include "cgamesh/mesh/triangle_bvh.hpp"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "cgamesh/errors.hpp"
 
@@ -23,7 +23,8 @@ mesh::TriangleBvh fresh(const std::vector<Triangle>& tris) {
   mesh::TriangleBvh::Faces f(static_cast<Eigen::Index>(tris.size()), 3);
   for (std::size_t i = 0; i < tris.size(); ++i) {
     for (std::size_t k = 0; k < 3; ++k) p.row(static_cast<Eigen::Index>(3 * i + k)) = tris[i][k].transpose();
-    f.row(static_cast<Eigen::Index>(i)) << static_cast<int>(3 * i), static_cast<int>(3 * i + 1), static_cast<int>(3 * i + 2);
+    f.row(static_cast<Eigen::Index>(i)) << static_cast<int>(3 * i), static_cast<int>(3 * i + 1),
+        static_cast<int>(3 * i + 2);
   }
   return {p, f};
 }
@@ -99,7 +100,8 @@ TEST(TriangleBvh, EditedTreeAnswersLikeAFreshOne) {
         if ((tlo.array() <= hi.array()).all() && (thi.array() >= lo.array()).all()) {
           EXPECT_TRUE(std::binary_search(in_box.begin(), in_box.end(), static_cast<int>(f))) << f;
         }
-        EXPECT_EQ(std::binary_search(near.begin(), near.end(), static_cast<int>(f)), smin <= tolerance && smax >= -tolerance)
+        EXPECT_EQ(std::binary_search(near.begin(), near.end(), static_cast<int>(f)),
+                  smin <= tolerance && smax >= -tolerance)
             << f;
       }
     }
@@ -119,6 +121,45 @@ TEST(TriangleBvh, EditsCheckTheirArguments) {
   bvh.erase(0);
   EXPECT_EQ(bvh.face_count(), 0);
   EXPECT_TRUE(bvh.segment_hits(Eigen::Vector3d(-20, -20, -20), Eigen::Vector3d(20, 20, 20)).empty());
+}
+
+// Segments through a corner of a box (into the box) or along one of its edges meet the faces
+// there; rounding once let every face around the corner reject the hit (u or v just below 0).
+TEST(TriangleBvh, SegmentThroughACornerOrAlongAnEdgeHitsTheFacesThere) {
+  const Eigen::Vector3f lo(0.1f, 0.7f, 0.3f), size(0.9f, 1.3f, 0.7f);
+  std::vector<Triangle> tris;
+  const auto corner = [&](int i) {
+    return Eigen::Vector3f(lo.x() + ((i & 1) ? size.x() : 0.0f), lo.y() + ((i & 2) ? size.y() : 0.0f),
+                           lo.z() + ((i & 4) ? size.z() : 0.0f));
+  };
+  for (const auto& q : std::vector<std::array<int, 4>>{
+           {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
+    tris.push_back({corner(q[0]), corner(q[1]), corner(q[2])});
+    tris.push_back({corner(q[0]), corner(q[2]), corner(q[3])});
+  }
+  const mesh::TriangleBvh bvh = fresh(tris);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.05, 1);
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d c = corner(i).cast<double>(), centre = (lo + 0.5f * size).cast<double>();
+    for (int q = 0; q < 100; ++q) {
+      // Into the box's octant at this corner.
+      const Eigen::Vector3d in =
+          (centre - c).cwiseSign().cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+      const auto hits = bvh.segment_hits(c - 0.3 * in, c + 0.01 * in);
+      ASSERT_FALSE(hits.empty()) << "corner " << i << " direction " << in.transpose();
+      for (const auto& h : hits) EXPECT_NEAR(h.t, 0.3 / 0.31, 1e-6);
+    }
+  }
+  // Along the edge from corner 0 to corner 4 (z): through both corners, lying in two faces.
+  for (int q = 0; q < 50; ++q) {
+    const double s = unit(rng);
+    const Eigen::Vector3d a = corner(0).cast<double>(), b = corner(4).cast<double>();
+    const auto hits = bvh.segment_hits(a + (a - b) * s, b + (b - a) * s);
+    ASSERT_GE(hits.size(), 2u);
+    EXPECT_NEAR(hits.front().t, s / (1 + 2 * s), 1e-6);
+    EXPECT_NEAR(hits.back().t, (1 + s) / (1 + 2 * s), 1e-6);
+  }
 }
 
 }  // namespace

@@ -2,18 +2,19 @@
 // planes through real models with every invariant of a cut checked on every result.
 #include "cgamesh/surgery/cut.hpp"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <map>
 #include <random>
 #include <set>
 #include <string>
 
-#include "anim/model_fixtures.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
+
+#include "anim/model_fixtures.hpp"
 #include "surgery/surgery_checks.hpp"
 #include "surgery/surgery_fixtures.hpp"
 
@@ -113,6 +114,44 @@ TEST(Cut, CubeCapIsOrientedOutwardOnBothPieces) {
   }
   EXPECT_NEAR(total, 1.0, 1e-6);
   EXPECT_GT(c.cap_triangles, 0);
+}
+
+/// Unit cubes moved by `offsets`, all in one mesh.
+mesh::Mesh cubes(const std::vector<Eigen::Vector3f>& offsets) {
+  const mesh::Mesh one = cube();
+  mesh::Mesh m;
+  m.name = "cubes";
+  const auto n = static_cast<Eigen::Index>(offsets.size());
+  m.positions.resize(8 * n, 3);
+  m.faces.resize(12 * n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    m.positions.middleRows(8 * i, 8) = one.positions.rowwise() + offsets[static_cast<std::size_t>(i)].transpose();
+    m.faces.middleRows(12 * i, 12) = one.faces.array() + static_cast<int>(8 * i);
+  }
+  return m;
+}
+
+// Two cubes that overlap (their sections cross) and one apart, in one mesh: the loop that can
+// be capped is capped, the two crossing ones are left open with a warning.
+TEST(Cut, CapsTheLoopsThatCanBeCappedAndWarnsAboutTheRest) {
+  const anim::RiggedModel model = static_model(cubes({{0, 0, 0}, {0.5f, 0.5f, 0.1f}, {3, 0, 0}}));
+  CutOptions opt;
+  opt.cap = true;
+  const ModelCut c = surgery::cut(model, rest_placement(model), cga::plane<double>({0, 0, 1}, 0.7), opt);
+  ASSERT_EQ(c.warnings.size(), 2u);  // one per piece
+  for (const std::string& w : c.warnings) EXPECT_NE(w.find("2 cross-section loop(s)"), std::string::npos) << w;
+  EXPECT_EQ(c.cap_triangles, 12);  // the section of the cube apart (8 points: 4 corners, 4 face diagonals), twice
+  for (const auto& piece : c.pieces) {
+    const mesh::Mesh& m = piece.meshes[0];
+    double area_at_cap = 0;
+    for (Eigen::Index f = 0; f < m.face_count(); ++f) {
+      const Eigen::Vector3f a = m.positions.row(m.faces(f, 0)), b = m.positions.row(m.faces(f, 1)),
+                            e = m.positions.row(m.faces(f, 2));
+      if (std::abs(a.z() - 0.7f) < 1e-6f && std::abs(b.z() - 0.7f) < 1e-6f && std::abs(e.z() - 0.7f) < 1e-6f)
+        area_at_cap += 0.5 * static_cast<double>((b - a).cross(e - a).norm());
+    }
+    EXPECT_NEAR(area_at_cap, 1.0, 1e-6);
+  }
 }
 
 // ---- degenerate and bad input -------------------------------------------------------------------

@@ -24,6 +24,8 @@ namespace {
 using namespace cgamesh;
 using namespace cgamesh_test;
 using surgery::DrillOptions;
+using surgery::kMaxRefinements;
+using surgery::kMaxRimPoints;
 using surgery::ModelDrill;
 using V3 = Eigen::Vector3d;
 
@@ -35,9 +37,17 @@ double axis_distance(const V3& x, const V3& tip, const V3& base) {
 
 V3 row(const Points& p, Eigen::Index v) { return p.row(v).cast<double>().transpose(); }
 
+/// Whether x lies inside the finite cylinder of radius r from `base` to `tip`.
+bool in_drill(const V3& x, const V3& tip, const V3& base, double r) {
+  const V3 n = (tip - base).normalized();
+  const double h = n.dot(x - base);
+  return h > 0 && h < (tip - base).norm() && axis_distance(x, tip, base) < r;
+}
+
 /// Vertex ids of a drilled mesh welded through their origins (weld_points).
 std::vector<int> weld_points(const ModelDrill& d, std::size_t k, const anim::RiggedModel& before) {
-  return cgamesh_test::weld_points(d.origins[k], weld(before.meshes[static_cast<std::size_t>(d.source_mesh[k])].positions));
+  return cgamesh_test::weld_points(d.origins[k],
+                                   weld(before.meshes[static_cast<std::size_t>(d.source_mesh[k])].positions));
 }
 
 /// The boundary edges of a drilled mesh (welded through origins) with both ends on the
@@ -134,6 +144,24 @@ TEST(Drill, BoxDrilledThroughWithAWallIsClosedAndWithoutItHasTwoRims) {
   EXPECT_LT(v, 1 - 0.8 * std::numbers::pi * r * r);
   EXPECT_GT(v, 1 - std::numbers::pi * r * r);
 
+  // The wall has vertices of its own, whose normals are the wall's (the box's would shade it
+  // black where they point away from the wall's winding).
+  anim::RiggedModel with_normals = model;
+  mesh::Mesh& b = with_normals.meshes[0];
+  b.normals = (b.positions.rowwise() - Eigen::RowVector3f(0.5f, 0.5f, 0.5f)).rowwise().normalized();
+  const ModelDrill shaded = surgery::drill(with_normals, rest_placement(with_normals), tip, base, r, wall);
+  const mesh::Mesh& s = shaded.model.meshes[0];
+  ASSERT_GT(shaded.wall_triangles, 0);
+  double worst = 1;
+  for (Eigen::Index f = s.face_count() - shaded.wall_triangles; f < s.face_count(); ++f) {
+    const V3 a = row(shaded.placed[0], s.faces(f, 0)), p = row(shaded.placed[0], s.faces(f, 1)),
+             c = row(shaded.placed[0], s.faces(f, 2));
+    const V3 n = (p - a).cross(c - a).normalized();
+    EXPECT_LT(std::abs(n.dot((tip - base).normalized())), 0.2) << "a wall face along the axis";
+    for (int k = 0; k < 3; ++k) worst = std::min(worst, n.dot(s.normals.row(s.faces(f, k)).cast<double>().transpose()));
+  }
+  EXPECT_GT(worst, 0.8);
+
   // A drill stopping inside the box leaves its one rim open, with a warning.
   const ModelDrill blind = surgery::drill(model, placement, V3(0.45, 0.55, 0.5), base, r, wall);
   EXPECT_EQ(blind.rims, 1);
@@ -160,11 +188,47 @@ TEST(Drill, ADrillSmallerThanTheFacesRefinesUntilTheRimHasEnoughPoints) {
   for (Eigen::Index v = 0; v < d.model.meshes[0].vertex_count(); ++v)
     EXPECT_GE(axis_distance(row(d.placed[0], v), tip, base), r - 1e-5);
 
-  // Without refinements the disk inside one face makes no hole, with a warning.
+  // Without refinements the disk inside one face makes no hole: a drill that changes nothing
+  // is an error, in place too (and leaves the model as it was).
   opt.max_refinements = 0;
-  const ModelDrill none = surgery::drill(model, rest_placement(model), tip, base, r, opt);
-  EXPECT_EQ(none.faces_out, none.faces_in);
-  EXPECT_EQ(none.warnings.size(), 1u);
+  EXPECT_THROW((void)surgery::drill(model, rest_placement(model), tip, base, r, opt), TopologyError);
+  surgery::LiveModel live(model, rest_placement(model));
+  EXPECT_THROW((void)surgery::drill(live, tip, base, r, opt), TopologyError);
+  EXPECT_EQ(live.model().meshes[0].faces, model.meshes[0].faces);
+}
+
+// The work budget stops refinement before the region passes it, with a warning; the result is
+// still a (coarser) hole.
+TEST(Drill, RefinementStaysWithinItsBudget) {
+  const anim::RiggedModel model = static_model(grid(4));
+  const V3 base(1.3, 1.6, -1), tip(1.3, 1.6, 1);
+  DrillOptions opt;
+  opt.min_rim_points = kMaxRimPoints;
+  opt.max_refinements = kMaxRefinements;
+  opt.max_region_faces = 400;
+  const ModelDrill d = surgery::drill(model, rest_placement(model), tip, base, 0.3, opt);
+  EXPECT_LE(d.faces_out, 32 + 400);
+  ASSERT_FALSE(d.warnings.empty());
+  EXPECT_NE(d.warnings.front().find("max_region_faces"), std::string::npos) << d.warnings.front();
+  EXPECT_EQ(d.rims, 1);
+}
+
+// Axes through a corner of a cube (along its diagonal) or along one of its edges hit it.
+TEST(Drill, AxisThroughACubeCornerOrAlongAnEdgeIsAHit) {
+  const anim::RiggedModel model = static_model(cube());
+  const auto placement = rest_placement(model);
+  const V3 corner(1, 1, 1), diagonal = V3(1, 1, 1).normalized();
+  const V3 tip = corner - 0.3 * diagonal, base = corner + 0.5 * diagonal;
+  const ModelDrill d = surgery::drill(model, placement, tip, base, 0.2);
+  EXPECT_GT(d.faces_removed, 0);
+  EXPECT_GT(d.new_vertices, 0);
+  EXPECT_EQ(d.rims, 1);
+  for (Eigen::Index v = 0; v < d.model.meshes[0].vertex_count(); ++v)
+    EXPECT_FALSE(in_drill(row(d.placed[0], v), tip, base, 0.2 - 1e-5)) << row(d.placed[0], v).transpose();
+  const ModelDrill e = surgery::drill(model, placement, V3(1, 0, 1.5), V3(1, 0, -0.5), 0.25);
+  EXPECT_GT(e.faces_removed, 0);
+  for (Eigen::Index v = 0; v < e.model.meshes[0].vertex_count(); ++v)
+    EXPECT_FALSE(in_drill(row(e.placed[0], v), V3(1, 0, 1.5), V3(1, 0, -0.5), 0.25 - 1e-5));
 }
 
 TEST(Drill, AxisThroughAnEdgeOrAVertex) {
@@ -197,6 +261,16 @@ TEST(Drill, MissOrBadDrillIsAnError) {
   EXPECT_THROW((void)surgery::drill(model, placement, V3(std::nan(""), 0, 0), base, 0.5), InvalidInputError);
   DrillOptions bad;
   bad.min_rim_points = 2;
+  EXPECT_THROW((void)surgery::drill(model, placement, tip, base, 0.5, bad), InvalidInputError);
+  bad.min_rim_points = kMaxRimPoints + 1;
+  EXPECT_THROW((void)surgery::drill(model, placement, tip, base, 0.5, bad), InvalidInputError);
+  bad = {};
+  bad.max_refinements = kMaxRefinements + 1;
+  EXPECT_THROW((void)surgery::drill(model, placement, tip, base, 0.5, bad), InvalidInputError);
+  bad.max_refinements = -1;
+  EXPECT_THROW((void)surgery::drill(model, placement, tip, base, 0.5, bad), InvalidInputError);
+  bad = {};
+  bad.max_region_faces = 0;
   EXPECT_THROW((void)surgery::drill(model, placement, tip, base, 0.5, bad), InvalidInputError);
   const surgery::SurfaceIndex other =
       surgery::SurfaceIndex::build(static_model(cube()), rest_placement(static_model(cube())));

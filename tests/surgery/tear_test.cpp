@@ -2,8 +2,6 @@
 // hundreds of random scalpel strokes over real models with every invariant checked.
 #include "cgamesh/surgery/tear.hpp"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <map>
 #include <random>
@@ -11,7 +9,11 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "cgamesh/errors.hpp"
+#include "cgamesh/surgery/live_model.hpp"
+
 #include "surgery/surgery_checks.hpp"
 #include "surgery/surgery_fixtures.hpp"
 
@@ -32,7 +34,8 @@ std::vector<int> weld_torn(const mesh::Mesh& old, const ModelTear& t) {
   const auto w = weld_points(t.origins, weld(old.positions));
   std::map<std::pair<int, int>, int> first;
   std::vector<int> out(w.size());
-  for (std::size_t v = 0; v < w.size(); ++v) out[v] = first.try_emplace({w[v], t.side[v]}, static_cast<int>(v)).first->second;
+  for (std::size_t v = 0; v < w.size(); ++v)
+    out[v] = first.try_emplace({w[v], t.side[v]}, static_cast<int>(v)).first->second;
   return out;
 }
 
@@ -160,6 +163,51 @@ TEST(Tear, ThroughACubeEdgeAndAroundACorner) {
 
 // ---- degenerate and bad input -------------------------------------------------------------------
 
+/// `m` with no vertex shared between faces (#V = 3 #F), as some .x and .smd files are.
+mesh::Mesh unshared(const mesh::Mesh& m) {
+  mesh::Mesh out;
+  out.name = m.name + " (unshared)";
+  out.positions.resize(3 * m.face_count(), 3);
+  out.faces.resize(m.face_count(), 3);
+  for (Eigen::Index f = 0; f < m.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      out.positions.row(3 * f + k) = m.positions.row(m.faces(f, k));
+      out.faces(f, k) = static_cast<int>(3 * f + k);
+    }
+  return out;
+}
+
+// Faces that share no vertices are one surface where their corners meet: a stroke across them
+// tears them as it tears the shared grid, with the same path and the same slit.
+TEST(Tear, AMeshWithoutSharedVerticesTearsLikeTheSharedOne) {
+  const std::vector<Scalpel> steps{blade_at(0.7, 1.3), blade_at(3.4, 2.2)};
+  const anim::RiggedModel shared = static_model(grid(4)), soup = static_model(unshared(grid(4)));
+  const ModelTear a = surgery::tear(shared, rest_placement(shared), steps, {.open = 0.1});
+  const ModelTear b = surgery::tear(soup, rest_placement(soup), steps, {.open = 0.1});
+  ASSERT_EQ(a.path.size(), b.path.size());
+  for (std::size_t i = 0; i < a.path.size(); ++i) EXPECT_LE((a.path[i] - b.path[i]).norm(), 1e-9);
+  EXPECT_EQ(a.faces_split, b.faces_split);
+  EXPECT_EQ(a.faces_out, b.faces_out);
+  EXPECT_NEAR(area(a.model.meshes[0].faces, a.placed), area(b.model.meshes[0].faces, b.placed), 1e-6);
+  EXPECT_EQ(new_boundary(grid(4), a).size(), new_boundary(unshared(grid(4)), b).size());
+}
+
+// Along grid lines of the soup the faces are apart already: without an opening the tear would
+// change nothing, and says so; with one, the two sides move apart.
+TEST(Tear, ATearThatChangesNothingIsATopologyError) {
+  const anim::RiggedModel soup = static_model(unshared(grid(4)));
+  const std::vector<Scalpel> steps{blade_at(1, 1), blade_at(1, 2), blade_at(1, 3)};
+  EXPECT_THROW((void)surgery::tear(soup, rest_placement(soup), steps), TopologyError);
+  surgery::LiveModel live(soup, rest_placement(soup));
+  EXPECT_THROW((void)surgery::tear(live, steps), TopologyError);
+  const ModelTear t = surgery::tear(soup, rest_placement(soup), steps, {.open = 0.2});
+  EXPECT_EQ(t.new_vertices, 0);
+  int moved = 0;
+  for (Eigen::Index v = 0; v < t.placed.rows(); ++v)
+    moved += (t.placed.row(v) - rest_placement(soup).positions[0].row(v)).norm() > 1e-3f ? 1 : 0;
+  EXPECT_GE(moved, 4);  // the faces at (1, 2) on both sides
+}
+
 TEST(Tear, ScalpelThatMissesIsATopologyError) {
   const anim::RiggedModel model = static_model(grid(4));
   const auto placement = rest_placement(model);
@@ -191,7 +239,8 @@ TEST(Tear, PathRunningOffAnOpenBorderIsATopologyError) {
   mesh::Mesh m = grid(3);
   m.faces.conservativeResize(m.faces.rows(), 3);
   for (Eigen::Index f = 0; f < m.faces.rows(); ++f) {
-    const float cx = (m.positions(m.faces(f, 0), 0) + m.positions(m.faces(f, 1), 0) + m.positions(m.faces(f, 2), 0)) / 3;
+    const float cx =
+        (m.positions(m.faces(f, 0), 0) + m.positions(m.faces(f, 1), 0) + m.positions(m.faces(f, 2), 0)) / 3;
     if (cx > 1 && cx < 2) m.faces.row(f).setConstant(-1);
   }
   Eigen::Index kept = 0;
@@ -199,8 +248,9 @@ TEST(Tear, PathRunningOffAnOpenBorderIsATopologyError) {
     if (m.faces(f, 0) >= 0) m.faces.row(kept++) = m.faces.row(f);
   m.faces.conservativeResize(kept, 3);
   const anim::RiggedModel model = static_model(m);
-  EXPECT_THROW((void)surgery::tear(model, rest_placement(model), std::vector<Scalpel>{blade_at(0.5, 1.5), blade_at(2.5, 1.5)}),
-               TopologyError);
+  EXPECT_THROW(
+      (void)surgery::tear(model, rest_placement(model), std::vector<Scalpel>{blade_at(0.5, 1.5), blade_at(2.5, 1.5)}),
+      TopologyError);
 }
 
 // ---- properties on real models -----------------------------------------------------------------
@@ -294,7 +344,8 @@ TEST(Tear, OpenedTearOnAnAnimatedModelStaysOpenWhenReanimated) {
     ASSERT_EQ(open.placed.rows(), closed.placed.rows());
     // Skinning the new rest meshes in the pose of the tear moves each copy by its opening.
     const Points moved = open.placed - closed.placed;
-    const Points reskinned = surgery::place(open.model, pose).positions[k] - surgery::place(closed.model, pose).positions[k];
+    const Points reskinned =
+        surgery::place(open.model, pose).positions[k] - surgery::place(closed.model, pose).positions[k];
     EXPECT_LE((reskinned - moved).cwiseAbs().maxCoeff(), 1e-5 * diag);
     EXPECT_GT(moved.rowwise().norm().maxCoeff(), 0.4 * opened.open) << "the middle of the tear opens";
     EXPECT_LE(moved.rowwise().norm().maxCoeff(), 0.5 * opened.open + 1e-6 * diag);

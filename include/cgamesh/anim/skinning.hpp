@@ -25,10 +25,10 @@ enum class SkinningMode { cga, versor, matrix, dqs };
 /// What one frame's skinning of one mesh needs per palette entry (built per frame, small).
 struct SkinningPalette {
   SkinningMode mode = SkinningMode::cga;
-  std::vector<Eigen::Matrix<float, 3, 4>> affine;       ///< cga, matrix: x -> A x + b
-  std::vector<cga::Versor<float>> versors;              ///< versor: M_n B_n
-  std::vector<cga::Motor<float>> motors;                ///< versor, when no joint dilates: M_n B_n
-  std::vector<Eigen::Matrix<float, 8, 1>> dual_quats;   ///< dqs: real (x y z w), dual (x y z w)
+  std::vector<Eigen::Matrix<float, 3, 4>> affine;      ///< cga, matrix: x -> A x + b
+  std::vector<cga::Versor<float>> versors;             ///< versor: M_n B_n
+  std::vector<cga::Motor<float>> motors;               ///< versor, when no joint dilates: M_n B_n
+  std::vector<Eigen::Matrix<float, 8, 1>> dual_quats;  ///< dqs: real (x y z w), dual (x y z w)
 };
 
 /// Builds the palette of `mesh` for one frame. A mesh without a skin follows its node.
@@ -45,13 +45,21 @@ void skin_range(const mesh::Mesh& mesh, const SkinningPalette& palette, Eigen::I
 /// Skins every vertex, split into jobs over `threads` threads (0: all hardware threads).
 [[nodiscard]] mesh::RowMatrixXf<3> skin(const mesh::Mesh& mesh, const SkinningPalette& palette, int threads = 0);
 
+/// The blended map Σ wₙ Aₙ of vertex i as one affine x ↦ A x + b (3×4): what eq. (17) does to
+/// that vertex in a `cga` or `matrix` palette (a static mesh: its node's map).
+/// @param[in] palette  make_palette(mesh, ...) in mode cga or matrix
+/// @param[in] i        vertex index, 0 <= i < #V
+[[nodiscard]] Eigen::Matrix<double, 3, 4> blended_affine(const mesh::Mesh& mesh, const SkinningPalette& palette,
+                                                         Eigen::Index i);
+
 /// Skinned unit normals of every vertex (#V×3; 0 rows when the mesh has no normals), turned by
 /// the linear part of each vertex's blended transform: cga, matrix — the cofactor of Σ w Aₙ
 /// (exact for any invertible map, non-uniform scale included); versor — the blended versor's
 /// sandwich of the Euclidean vector n (a dilator leaves directions unchanged); dqs — the
 /// blended rotation. A degenerate result (zero blended map) keeps the rest normal.
 /// @param[in] palette  make_palette(mesh, ...) in any mode
-[[nodiscard]] mesh::RowMatrixXf<3> skin_normals(const mesh::Mesh& mesh, const SkinningPalette& palette, int threads = 0);
+[[nodiscard]] mesh::RowMatrixXf<3> skin_normals(const mesh::Mesh& mesh, const SkinningPalette& palette,
+                                                int threads = 0);
 
 /// Eq. (17) written literally, one sandwich and down-projection per vertex and influence, in
 /// double: the reference the fast modes are tested against (slow).

@@ -24,6 +24,9 @@ struct CutOptions {
   /// Vertices closer to the plane than this (times the placed mesh's bounding-box diagonal)
   /// count as on it: no sliver triangles, no duplicate points.
   double snap = 1e-6;
+  /// Rest positions of new vertices: on the tool when re-posed at the operation's pose
+  /// (`exact`), or the paper's edge/face parameters on the rest mesh.
+  RestPosition rest = RestPosition::exact;
   Predicates predicates = Predicates::cga;
 };
 
@@ -47,10 +50,13 @@ struct MeshCut {
 /// @param[in] mesh    rest mesh with optional skin, #V vertices
 /// @param[in] placed  #V×3 posed positions the plane is placed against
 /// @param[in] plane   a CGA plane (cga::plane(n, d))
+/// @param[in] palette the `cga` skinning palette `placed` came from (Placement::palettes): new
+///                    vertices then get rest positions by options.rest; without it (nullptr)
+///                    they keep the parametric ones
 /// @throws InvalidInputError for a vector that is not a plane, or NaN positions.
-/// @throws TopologyError when `cap` finds a self-intersecting cross-section.
 [[nodiscard]] MeshCut cut_mesh(const mesh::Mesh& mesh, const mesh::RowMatrixXf<3>& placed,
-                               const cga::Vector<double>& plane, const CutOptions& options = {});
+                               const cga::Vector<double>& plane, const CutOptions& options = {},
+                               const anim::SkinningPalette* palette = nullptr);
 
 /// What a cut did, in place or as a copy.
 struct CutStats {
@@ -82,8 +88,8 @@ struct LiveCut : CutStats {
 /// Cuts every mesh of `model`, placed in `placement` (see place()).
 /// @throws InvalidInputError as cut_mesh, or when the placement does not fit the model.
 /// @throws TopologyError when the plane misses the model (one piece would be empty).
-[[nodiscard]] ModelCut cut(const anim::RiggedModel& model, const Placement& placement,
-                           const cga::Vector<double>& plane, const CutOptions& options = {});
+[[nodiscard]] ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const cga::Vector<double>& plane,
+                           const CutOptions& options = {});
 
 /// Cuts `live` in place with the plane Π = n + d e∞: the faces Π crosses are re-triangulated
 /// as cut() does, and every vertex on Π (old, or new on a crossed edge) gets one copy per side,

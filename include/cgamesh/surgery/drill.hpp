@@ -16,21 +16,34 @@
 
 namespace cgamesh::surgery {
 
+/// Largest DrillOptions::min_rim_points: a rim of this many chords is a circle to 3·10⁻⁷ of its radius.
+inline constexpr int kMaxRimPoints = 4096;
+/// Largest DrillOptions::max_refinements: 4¹² times finer faces than the input's.
+inline constexpr int kMaxRefinements = 12;
+
 struct DrillOptions {
   /// Line the hole with a tube between each entry rim and the exit rim that follows it along
   /// the axis, so that a closed input stays closed (beyond the paper). Rims without a partner
   /// are left open with a warning.
   bool wall = false;
   /// A rim with fewer points than this (or a disk lying inside one face) is too coarse: the
-  /// affected faces are split 1→4 (red-green, no T-junctions) and drilled again (paper
+  /// faces the rim crosses are split 1→4 (red-green, no T-junctions) and drilled again (paper
   /// section 4.2.3). A chord replacing more than 4π / min_rim_points of the circle counts as
-  /// too coarse as well (the polygon would reach towards the axis). At least 3.
+  /// too coarse as well (the polygon would reach towards the axis). 3 … kMaxRimPoints.
   int min_rim_points = 6;
-  /// At most this many rounds of splitting; a rim still too coarse then gets a warning.
+  /// At most this many rounds of splitting (0 … kMaxRefinements); a rim still too coarse then
+  /// gets a warning.
   int max_refinements = 6;
+  /// The work budget of refinement: no round starts that could take the drilled region (the
+  /// faces pulled in from the mesh and those splitting made) past this many faces; a warning
+  /// says when it stopped refinement. Bounds time and memory whatever the other options.
+  int max_region_faces = 20000;
   /// Vertices closer to the cylinder than this (times the placed mesh's bounding-box diagonal)
   /// count as on it: no sliver triangles, no points twice.
   double snap = 1e-6;
+  /// Rest positions of new vertices: on the tool when re-posed at the operation's pose
+  /// (`exact`), or the paper's edge/face parameters on the rest mesh.
+  RestPosition rest = RestPosition::exact;
   Predicates predicates = Predicates::cga;
 };
 
@@ -77,7 +90,8 @@ struct LiveDrill : DrillStats {
 /// @param[in] tip, base  world-space end points A and B of the drill axis
 /// @throws InvalidInputError for radius <= 0 or NaN, tip == base, non-finite points, bad
 ///         options, or a placement or index that does not fit the model.
-/// @throws TopologyError when the axis segment [B, A] meets no face (the drill misses).
+/// @throws TopologyError when the axis segment [B, A] meets no face (the drill misses), or
+///         the drill changes nothing (it lies inside a face even after refinement).
 [[nodiscard]] ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
                                const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                                const DrillOptions& options = {});

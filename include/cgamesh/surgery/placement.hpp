@@ -17,10 +17,21 @@ namespace cgamesh::surgery {
 /// cost of GA as the paper's Table 1 does. Both give the same result.
 enum class Predicates { cga, euclidean };
 
+/// Where a new vertex (a point on an old edge or inside an old face) goes in the rest mesh.
+enum class RestPosition {
+  /// The point that its blended skin map Σ wₙ Aₙ (with its new weights, eq. 17) takes onto its
+  /// placed position: re-posed at the operation's pose, it lies on the tool (beyond the paper).
+  /// Where that map cannot be inverted, the parametric position.
+  exact,
+  /// The same edge/face parameters on the rest mesh (paper section 4.2): skinning is not
+  /// linear in (weights, position) together, so re-posed it drifts off the tool.
+  parametric,
+};
+
 /// The posed surface of every mesh of a model.
 struct Placement {
-  std::vector<mesh::RowMatrixXf<3>> positions;       ///< per mesh, #V×3 world-space posed positions
-  std::vector<anim::SkinningPalette> palettes;       ///< per mesh, the affine map of each palette entry
+  std::vector<mesh::RowMatrixXf<3>> positions;  ///< per mesh, #V×3 world-space posed positions
+  std::vector<anim::SkinningPalette> palettes;  ///< per mesh, the affine map of each palette entry
 };
 
 /// Skins every mesh of `model` in `pose` with eq. (17) (`cga` skinning).

@@ -35,6 +35,9 @@ struct TearOptions {
   /// Points closer than this (times the placed mesh's bounding-box diagonal) to a vertex or an
   /// edge are moved onto it: no sliver triangles, no duplicate points.
   double snap = 1e-6;
+  /// Rest positions of new vertices: on the tool when re-posed at the operation's pose
+  /// (`exact`), or the paper's edge/face parameters on the rest mesh.
+  RestPosition rest = RestPosition::exact;
   Predicates predicates = Predicates::cga;
 };
 
@@ -42,10 +45,10 @@ struct TearOptions {
 struct TearStats {
   /// The surface path S₀, Q…, S₁, Q…, …, Sₖ in placed coordinates, in order.
   std::vector<Eigen::Vector3d> path;
-  int new_vertices = 0;         ///< vertices added to the torn mesh
-  int intersection_points = 0;  ///< points of the path (entry points S and crossings Q)
+  int new_vertices = 0;             ///< vertices added to the torn mesh
+  int intersection_points = 0;      ///< points of the path (entry points S and crossings Q)
   int faces_in = 0, faces_out = 0;  ///< faces of the whole model before and after
-  int faces_split = 0;          ///< input faces re-triangulated
+  int faces_split = 0;              ///< input faces re-triangulated
   std::vector<std::string> warnings;
 };
 
@@ -83,7 +86,9 @@ struct LiveTear : TearStats {
 /// @throws InvalidInputError for fewer than 2 steps, NaN, a blade of zero length, a negative
 ///         opening, or an index that does not fit.
 /// @throws TopologyError when the blade misses the surface at a step, or the surface path
-///         between two entry points cannot be followed (different parts, an open border).
+///         between two entry points cannot be followed (different parts, an open border), or
+///         the tear would change nothing (a path along edges the mesh has split already, and
+///         no opening).
 [[nodiscard]] ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
                              std::span<const Scalpel> scalpel, const TearOptions& options = {});
 
