@@ -33,6 +33,7 @@ using Triangle = std::array<int, 3>;
 struct Cylinder {
   Eigen::Vector3d base, axis;
   double radius = 0;
+  double length = 0;           ///< |A − B|: the drill takes what lies between its two end disks
   cga::Vector<double> sphere;  ///< S = eo − ½ r² e∞: the sphere of radius r about B (eq. 4)
   cga::Vector<double> plane;   ///< Π = n: the plane ⟂ AB through B (eq. 5)
   Predicates predicates = Predicates::cga;
@@ -46,7 +47,8 @@ struct Vertex {
   VertexSource source;  ///< where it comes from in the input mesh
   Eigen::Vector3d placed;
   int weld = -1;              ///< seam copies share it
-  bool crossing = false;      ///< an intersection point of an edge with the cylinder
+  bool crossing = false;      ///< an intersection point of an edge with the drill's boundary
+  bool off_surface = false;   ///< a point of a blind hole's wall: not on the input surface
   double s = 0;               ///< ρ² − r² (ρ: distance of its projection onto Π from B); 0 on the cylinder
   double h = 0;               ///< X·Π: height above Π
   cga::Vector<double> point;  ///< X = up(x − B) (cga predicates)
@@ -55,10 +57,14 @@ struct Vertex {
 /// How the cylinder crosses an edge, from its end with the smaller welded id (so that both
 /// sides of a seam compute the same points).
 struct EdgeCut {
-  int roots = 0;  ///< intersection points strictly inside the edge
-  std::array<double, 2> alpha{0, 0};
-  std::array<int, 2> weld{-1, -1};                  ///< welded ids of the intersection points
-  std::array<bool, 3> inside{false, false, false};  ///< sub-segment k (between points k, k+1) in the drill
+  /// Intersection points strictly inside the edge, in order: at most 2 on the cylinder and 1
+  /// on each end disk's plane.
+  int roots = 0;
+  std::array<double, 4> alpha{};
+  /// What each point lies on: the cylinder (-1), or the plane of the end disk at that height.
+  std::array<double, 4> level{-1, -1, -1, -1};
+  std::array<int, 4> weld{-1, -1, -1, -1};  ///< welded ids of the intersection points
+  std::array<bool, 5> inside{};             ///< sub-segment k (between points k, k+1) in the drill
   bool any_inside = false;
 };
 
@@ -123,11 +129,14 @@ class Driller {
     crossing_of_edge_.reserve(faces);
   }
 
-  /// Drills from the faces the axis pierces; fills `edit` and the counters.
-  void run(const std::vector<mesh::SegmentHit>& hits, LocalEdit& edit, DrillStats& out) {
+  /// Drills the faces of `candidates` that meet the drill and those reached from them through
+  /// faces that meet it; fills `edit` (left empty when none does) and the counters.
+  void run(const std::vector<int>& candidates, LocalEdit& edit, DrillStats& out) {
     std::vector<int> seeds;
-    for (const auto& hit : hits) seeds.push_back(slot_of(hit.face));
+    seeds.reserve(candidates.size());
+    for (const int f : candidates) seeds.push_back(slot_of(f));
     Pass pass = analyse(seeds);
+    if (pass.affected.empty()) return;
     std::vector<Rim> rims = find_rims(pass);
     int refinements = 0;
     bool over_budget = false;
@@ -159,12 +168,12 @@ class Driller {
       out.warnings.push_back(name + ": a rim of the hole is still coarse (fewer than " +
                              std::to_string(options_.min_rim_points) + " points, or a chord over a long arc) after " +
                              std::to_string(refinements) + " refinements");
-    std::vector<Triangle> tube;
-    if (options_.wall) tube = wall(pass, rims, name, out.warnings);
-    emit(pass, tube, edit, out);
+    Walls walls;
+    if (options_.wall) walls = wall(pass, rims, name, out.warnings);
+    emit(pass, walls, edit, out);
     out.refinements += refinements;
     out.faces_affected += static_cast<int>(pass.affected.size());
-    out.wall_triangles += static_cast<int>(tube.size());
+    out.wall_triangles += walls.size();
     out.rims += static_cast<int>(rims.size());
   }
 
@@ -185,6 +194,8 @@ class Driller {
       v.s = d.squaredNorm() - v.h * v.h - c_.radius * c_.radius;
     }
     if (std::abs(v.s) <= s_tolerance_) v.s = 0;
+    if (std::abs(v.h) <= tolerance_) v.h = 0;
+    if (std::abs(v.h - c_.length) <= tolerance_) v.h = c_.length;
   }
 
   int add_vertex(const Vertex& v) {
@@ -306,20 +317,64 @@ class Driller {
       for (double r : t)
         if (r * length > tolerance_ && (1 - r) * length > tolerance_) e.alpha[static_cast<std::size_t>(e.roots++)] = r;
     }
+    // The planes of the end disks, h = 0 and h = |AB| (h is affine along the edge): the drill
+    // is finite and takes only what lies between them.
+    const double ha = va.h, hb = vb.h, edge_length = (vb.placed - va.placed).norm();
+    for (const double level : {0.0, c_.length})
+      if ((ha - level) * (hb - level) < 0) {
+        const double r = (ha - level) / (ha - hb);
+        if (r * edge_length > tolerance_ && (1 - r) * edge_length > tolerance_) {
+          e.level[static_cast<std::size_t>(e.roots)] = level;
+          e.alpha[static_cast<std::size_t>(e.roots++)] = r;
+        }
+      }
+    for (int k = 1; k < e.roots; ++k)  // insertion sort of at most four
+      for (int j = k; j > 0 && e.alpha[static_cast<std::size_t>(j)] < e.alpha[static_cast<std::size_t>(j - 1)]; --j) {
+        std::swap(e.alpha[static_cast<std::size_t>(j)], e.alpha[static_cast<std::size_t>(j - 1)]);
+        std::swap(e.level[static_cast<std::size_t>(j)], e.level[static_cast<std::size_t>(j - 1)]);
+      }
+    int distinct = 0;  // points within the tolerance of each other are one
+    for (int k = 0; k < e.roots; ++k)
+      if (distinct == 0 ||
+          (e.alpha[static_cast<std::size_t>(k)] - e.alpha[static_cast<std::size_t>(distinct - 1)]) * edge_length >
+              tolerance_) {
+        e.level[static_cast<std::size_t>(distinct)] = e.level[static_cast<std::size_t>(k)];
+        e.alpha[static_cast<std::size_t>(distinct++)] = e.alpha[static_cast<std::size_t>(k)];
+      }
+    e.roots = distinct;
     for (int k = 0; k < e.roots; ++k) e.weld[static_cast<std::size_t>(k)] = next_weld_++;
-    // Sub-segments: inside when an end is strictly inside; between two points on the cylinder
-    // (a chord), when the middle is deeper than the tolerance.
-    std::array<double, 4> at{0, 0, 0, 0};
-    std::array<double, 4> s{sa, 0, 0, 0};
-    for (int k = 0; k < e.roots; ++k) at[static_cast<std::size_t>(k + 1)] = e.alpha[static_cast<std::size_t>(k)];
+    // Sub-segments: inside the cylinder when an end is strictly inside, or between two points
+    // on it (a chord) when the middle is deeper than the tolerance; and between the end disks.
+    std::array<double, 6> at{}, sv{};  // the edge's ends and its points, and ρ² − r² there
+    sv[0] = sa;
+    for (int k = 0; k < e.roots; ++k) {
+      const auto i = static_cast<std::size_t>(k + 1);
+      at[i] = e.alpha[static_cast<std::size_t>(k)];
+      const double v = f(at[i]);
+      sv[i] = std::abs(v) <= s_tolerance_ ? 0.0 : v;
+    }
     at[static_cast<std::size_t>(e.roots + 1)] = 1;
-    s[static_cast<std::size_t>(e.roots + 1)] = sb;
+    sv[static_cast<std::size_t>(e.roots + 1)] = sb;
     for (std::size_t k = 0; k <= static_cast<std::size_t>(e.roots); ++k) {
-      const bool in =
-          s[k] < 0 || s[k + 1] < 0 || (s[k] == 0 && s[k + 1] == 0 && f(0.5 * (at[k] + at[k + 1])) < -s_tolerance_);
+      const double mid = 0.5 * (at[k] + at[k + 1]), h = (1 - mid) * ha + mid * hb;
+      const bool radial = sv[k] < 0 || sv[k + 1] < 0 || (sv[k] == 0 && sv[k + 1] == 0 && f(mid) < -s_tolerance_);
+      const bool in = radial && h > 0 && h < c_.length;
       e.inside[k] = in;
       e.any_inside = e.any_inside || in;
     }
+    // A point with the outside on both sides (an end disk's plane crossed beside the cylinder)
+    // bounds nothing: it goes, or the face across the edge, not affected, would get a T-junction.
+    int bounding = 0;
+    for (int k = 0; k < e.roots; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      if (!e.inside[i] && !e.inside[i + 1]) continue;
+      const auto j = static_cast<std::size_t>(bounding++);
+      e.alpha[j] = e.alpha[i];
+      e.level[j] = e.level[i];
+      e.weld[j] = e.weld[i];
+      e.inside[j + 1] = e.inside[i + 1];
+    }
+    e.roots = bounding;
     cut_of_edge_.try_emplace(key, static_cast<int>(cuts_.size()));
     cuts_.push_back(e);
     return static_cast<int>(cuts_.size()) - 1;
@@ -336,10 +391,10 @@ class Driller {
   /// The vertex at root k of edge (a, b), cut as `e`, on this side of a seam.
   int crossing(int x, int y, const EdgeCut& e, int k) {
     const auto [a, b] = canonical(x, y);
-    int& id =
-        (*crossing_of_edge_.try_emplace(edge_key(a, b), std::array<int, 2>{-1, -1}).first)[static_cast<std::size_t>(k)];
+    int& id = (*crossing_of_edge_.try_emplace(edge_key(a, b), std::array<int, 4>{-1, -1, -1, -1})
+                    .first)[static_cast<std::size_t>(k)];
     if (id < 0) {
-      const double t = e.alpha[static_cast<std::size_t>(k)];
+      const double t = own_alpha(vertex(a), vertex(b), e, k);
       Vertex v;
       v.source = blend(a, b, t);
       v.placed = (1 - t) * vertex(a).placed + t * vertex(b).placed;
@@ -348,6 +403,26 @@ class Driller {
       id = add_vertex(v);
     }
     return id;
+  }
+
+  /// Parameter of point k of cut `e` on this copy of the edge (a, b): the cut's own where the
+  /// copies of a seam are placed alike; where they are not (a seam whose copies have different
+  /// influences, so the posed surface has a crack there), the same boundary crossed on this
+  /// copy, so that every point lies on the drill's boundary. The decisions (which parts are
+  /// inside) stay the cut's, so both sides of the seam agree.
+  [[nodiscard]] double own_alpha(const Vertex& a, const Vertex& b, const EdgeCut& e, int k) const {
+    const double t = e.alpha[static_cast<std::size_t>(k)], level = e.level[static_cast<std::size_t>(k)];
+    if (level >= 0) return a.h != b.h ? std::clamp((a.h - level) / (a.h - b.h), 0.0, 1.0) : t;
+    const double K = projected_length2(a, b), L = b.s - a.s - K, N = a.s, disc = L * L - 4 * K * N;
+    if (!(K > 0) || disc < 0) return t;
+    const double q = -0.5 * (L + std::copysign(std::sqrt(disc), L));
+    double best = t, gap = INFINITY;
+    for (const double r : {q / K, q != 0 ? N / q : t})
+      if (r >= 0 && r <= 1 && std::abs(r - t) < gap) {
+        best = r;
+        gap = std::abs(r - t);
+      }
+    return best;
   }
 
   /// The origin of (1 − t) a + t b in the input mesh: all the region's points lie in one input
@@ -385,8 +460,8 @@ class Driller {
     return out;
   }
 
-  /// Whether the axis line passes through the projection of face f onto Π (a disk lying
-  /// inside the face meets no edge of it).
+  /// Whether the axis segment [B, A] passes through face f (a disk lying inside the face meets
+  /// no edge of it).
   [[nodiscard]] bool axis_through(const Face& f) const {
     std::array<Eigen::Vector3d, 3> d;
     for (std::size_t k = 0; k < 3; ++k) {
@@ -395,7 +470,13 @@ class Driller {
     }
     const double o0 = c_.axis.dot(d[0].cross(d[1])), o1 = c_.axis.dot(d[1].cross(d[2])),
                  o2 = c_.axis.dot(d[2].cross(d[0]));
-    return (o0 > 0 && o1 > 0 && o2 > 0) || (o0 < 0 && o1 < 0 && o2 < 0);
+    if (!((o0 > 0 && o1 > 0 && o2 > 0) || (o0 < 0 && o1 < 0 && o2 < 0))) return false;
+    // ... between the end disks (the projection is not degenerate, so the face is not parallel
+    // to the axis).
+    const Eigen::Vector3d p0 = vertex(f.v[0]).placed,
+                          n = (vertex(f.v[1]).placed - p0).cross(vertex(f.v[2]).placed - p0);
+    const double h = n.dot(p0 - c_.base) / n.dot(c_.axis);
+    return h > 0 && h < c_.length;
   }
 
   /// Step 2 of Algorithm 3's test: does face f meet the open drill?
@@ -437,8 +518,8 @@ class Driller {
   /// chord back, is a convex polygon (a triangle minus a convex disk).
   void keep(int slot, Pass& pass) {
     const Face f = faces_[static_cast<std::size_t>(slot)];
-    std::array<int, 9> point{};
-    std::array<bool, 9> inside{};
+    std::array<int, 15> point{};  // 3 corners and up to 4 points per edge
+    std::array<bool, 15> inside{};
     int m = 0;
     for (int k = 0; k < 3; ++k) {
       const int u = f.v[static_cast<std::size_t>(k)], v = f.v[static_cast<std::size_t>((k + 1) % 3)];
@@ -458,7 +539,7 @@ class Driller {
       add_polygon(pass, slot, {f.v.data(), 3});
       return;
     }
-    std::array<int, 9> run{};
+    std::array<int, 15> run{};
     for (int i = 0; i < m; ++i) {
       const int at = (first + i) % m, before = (at + m - 1) % m;
       if (!(inside[static_cast<std::size_t>(before)] && !inside[static_cast<std::size_t>(at)])) continue;
@@ -471,7 +552,11 @@ class Driller {
       add_polygon(pass, slot, {run.data(), static_cast<std::size_t>(n)});
       const Chord chord{run[static_cast<std::size_t>(n - 1)], run[0]};
       pass.chords.push_back(chord);
-      if (arc(chord, {run.data(), static_cast<std::size_t>(n)}) > 4 * std::numbers::pi / options_.min_rim_points)
+      // Only a chord between two points of the cylinder replaces an arc of it; one with an end
+      // in an end disk's plane follows the line that plane cuts from the face.
+      const bool on_cylinder = vertex(chord.p).s == 0 && vertex(chord.e).s == 0;
+      if (on_cylinder &&
+          arc(chord, {run.data(), static_cast<std::size_t>(n)}) > 4 * std::numbers::pi / options_.min_rim_points)
         ++pass.coarse_arcs;
     }
   }
@@ -651,8 +736,15 @@ class Driller {
   /// Stitches each entry rim to the exit rim that follows it along the axis with a tube: the
   /// zipper merges the two loops by angle about the axis, each triangle holding the reverse of
   /// one rim edge, so the surface stays closed and consistently oriented.
-  std::vector<Triangle> wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name,
-                             std::vector<std::string>& warnings) const {
+  /// The triangles of the walls: tubes, and the bottom disks of blind holes (each gets its own
+  /// copies of the vertices it shares with the other, for its own normals).
+  struct Walls {
+    std::vector<Triangle> tube, bottom;
+    [[nodiscard]] int size() const { return static_cast<int>(tube.size() + bottom.size()); }
+  };
+
+  Walls wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name,
+             std::vector<std::string>& warnings) {
     struct Loop {
       std::vector<int> points;  ///< in the rim's own direction
       double winding = 0, height = 0;
@@ -680,20 +772,54 @@ class Driller {
       loops.push_back(std::move(loop));
     }
     std::sort(loops.begin(), loops.end(), [](const Loop& x, const Loop& y) { return x.height < y.height; });
-    std::vector<Triangle> tube;
+    // A rim wholly on the cylinder, below the tip: the wall of a blind hole can go down from it.
+    const auto on_cylinder = [&](const Loop& loop) {
+      return std::all_of(loop.points.begin(), loop.points.end(),
+                         [&](int x) { return vertex(x).s == 0 && vertex(x).h < c_.length; });
+    };
+    Walls walls;
     for (std::size_t i = 0; i < loops.size(); ++i) {
-      if (loops[i].winding < 0 || i + 1 == loops.size() || loops[i + 1].winding > 0) {
+      const bool entry = loops[i].winding > 0;
+      if (entry && i + 1 < loops.size() && loops[i + 1].winding < 0) {
+        zipper(loops[i].points, loops[i + 1].points, walls.tube);
+        ++i;
+      } else if (entry && i + 1 == loops.size() && on_cylinder(loops[i])) {
+        blind(loops[i].points, walls);
+      } else {
         ++open;
-        continue;
       }
-      zipper(loops[i].points, loops[i + 1].points, tube);
-      ++i;
     }
     if (open > 0)
       warnings.push_back(name + ": " + std::to_string(open) +
-                         " rim(s) of the hole have no partner across the material (the drill stops inside, the hole " +
-                         "meets a mesh boundary, or the surfaces face alike); left open");
-    return tube;
+                         " rim(s) of the hole have no partner across the material (the hole meets a mesh boundary, " +
+                         "an end disk cuts the surface, or the surfaces face alike); left open");
+    return walls;
+  }
+
+  /// The wall of a blind hole below the entry rim `a` (winding +, in its own direction): a tube
+  /// straight down the cylinder to the tip's disk, each triangle pair holding the reverse of one
+  /// rim edge, and the disk as a fan about the tip. Its points below the rim are new points off
+  /// the input surface, with the influences of the rim point above them.
+  void blind(const std::vector<int>& a, Walls& walls) {
+    const Eigen::Vector3d tip = c_.base + c_.length * c_.axis;
+    const auto off_surface = [&](int above, const Eigen::Vector3d& at) {
+      Vertex v;
+      v.source = vertex(above).old >= 0 ? VertexSource::copy(vertex(above).old) : vertex(above).source;
+      v.placed = at;
+      v.weld = next_weld_++;
+      v.off_surface = true;
+      return add_vertex(v);
+    };
+    const std::size_t n = a.size();
+    std::vector<int> q(n);
+    for (std::size_t i = 0; i < n; ++i) q[i] = off_surface(a[i], tip + c_.radius * projected(a[i]).normalized());
+    const int centre = off_surface(a[0], tip);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = (i + 1) % n;
+      walls.tube.push_back({a[j], a[i], q[i]});
+      walls.tube.push_back({a[j], q[i], q[j]});
+      walls.bottom.push_back({q[j], q[i], centre});
+    }
   }
 
   [[nodiscard]] double angle(int x) const {
@@ -742,7 +868,7 @@ class Driller {
   }
 
   /// Step 5: the input faces of the region that changed are replaced by their pieces.
-  void emit(const Pass& pass, const std::vector<Triangle>& tube, LocalEdit& edit, DrillStats& out) const {
+  void emit(const Pass& pass, const Walls& walls, LocalEdit& edit, DrillStats& out) const {
     std::vector<char> affected(faces_.size(), 0);
     for (int s : pass.affected) affected[static_cast<std::size_t>(s)] = 1;
     for (std::size_t s = 0; s < faces_.size(); ++s)
@@ -756,7 +882,7 @@ class Driller {
     edit.new_vertices.reserve(edit.new_vertices.size() + fresh);
     edit.new_placed.reserve(edit.new_placed.size() + fresh);
     edit.new_faces.reserve(edit.new_faces.size() + faces_.size() + pass.corners.size() - 2 * pass.polygons.size() +
-                           tube.size());
+                           static_cast<std::size_t>(walls.size()));
     const auto add = [&](int a, int b, int c) {
       edit.new_faces.push_back({extended(a, edit, ids), extended(b, edit, ids), extended(c, edit, ids)});
     };
@@ -776,25 +902,27 @@ class Driller {
         add(pass.corners[static_cast<std::size_t>(first + t[0])], pass.corners[static_cast<std::size_t>(first + t[1])],
             pass.corners[static_cast<std::size_t>(first + t[2])]);
     }
-    // The wall has its own copies of the rim vertices, with the tube's normals (area-weighted,
-    // in the placed pose), so that it is not shaded with the surface's.
-    std::vector<Eigen::Vector3d> wall_normal(vertices_.size(), Eigen::Vector3d::Zero());
-    for (const Triangle& t : tube) {
-      const Eigen::Vector3d n =
-          (vertex(t[1]).placed - vertex(t[0]).placed).cross(vertex(t[2]).placed - vertex(t[0]).placed);
-      for (const int x : t) wall_normal[static_cast<std::size_t>(x)] += n;
-    }
-    std::vector<int> wall_ids(vertices_.size(), -1);
-    const auto wall_vertex = [&](int x) {
-      int& id = wall_ids[static_cast<std::size_t>(x)];
-      if (id < 0) {
-        const Vertex& v = vertex(x);
-        id = edit.add_vertex(v.old >= 0 ? VertexSource::copy(v.old) : v.source, v.placed, nv_, 0,
-                             wall_normal[static_cast<std::size_t>(x)].normalized());
+    // Each wall surface has its own copies of its vertices, with its normals (area-weighted, in
+    // the placed pose), so that it is not shaded with the surface's or the other's.
+    for (const std::vector<Triangle>* surface : {&walls.tube, &walls.bottom}) {
+      std::vector<Eigen::Vector3d> normal(vertices_.size(), Eigen::Vector3d::Zero());
+      for (const Triangle& t : *surface) {
+        const Eigen::Vector3d n =
+            (vertex(t[1]).placed - vertex(t[0]).placed).cross(vertex(t[2]).placed - vertex(t[0]).placed);
+        for (const int x : t) normal[static_cast<std::size_t>(x)] += n;
       }
-      return id;
-    };
-    for (const Triangle& t : tube) edit.new_faces.push_back({wall_vertex(t[0]), wall_vertex(t[1]), wall_vertex(t[2])});
+      std::vector<int> copy(vertices_.size(), -1);
+      const auto copy_of = [&](int x) {
+        int& id = copy[static_cast<std::size_t>(x)];
+        if (id < 0) {
+          const Vertex& v = vertex(x);
+          id = edit.add_vertex(v.old >= 0 ? VertexSource::copy(v.old) : v.source, v.placed, nv_, 0,
+                               normal[static_cast<std::size_t>(x)].normalized(), v.off_surface);
+        }
+        return id;
+      };
+      for (const Triangle& t : *surface) edit.new_faces.push_back({copy_of(t[0]), copy_of(t[1]), copy_of(t[2])});
+    }
     for (std::size_t x = 0; x < ids.size(); ++x)
       out.intersection_points += ids[x] >= 0 && vertices_[x].crossing ? 1 : 0;
   }
@@ -814,7 +942,7 @@ class Driller {
   FlatMap<int> half_edges_;  ///< welded directed edge -> 3 · face + k, or −1 once its face is gone
   std::vector<EdgeCut> cuts_;
   FlatMap<int> cut_of_edge_;  ///< welded undirected edge -> its cut in cuts_
-  FlatMap<std::array<int, 2>> crossing_of_edge_;
+  FlatMap<std::array<int, 4>> crossing_of_edge_;
   FlatMap<int> midpoint_of_edge_, midpoint_weld_;
 };
 
@@ -841,6 +969,7 @@ Cylinder make_cylinder(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, 
   Cylinder c;
   c.base = base;
   c.axis = (tip - base).normalized();
+  c.length = (tip - base).norm();
   c.radius = radius;
   c.sphere = cga::make_vector<double>(0, 0, 0, -0.5 * radius * radius, 1);
   c.plane = cga::make_vector<double>(c.axis.x(), c.axis.y(), c.axis.z(), 0, 0);
@@ -852,16 +981,25 @@ Cylinder make_cylinder(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, 
 
 /// Per mesh, the faces the axis segment [B, A] pierces.
 /// @throws TopologyError when it pierces none.
-std::vector<std::vector<mesh::SegmentHit>> axis_hits(const SurfaceIndex& index, const Cylinder& c,
-                                                     const Eigen::Vector3d& tip) {
-  std::vector<std::vector<mesh::SegmentHit>> hits(index.meshes.size());
-  bool any = false;
-  for (std::size_t i = 0; i < index.meshes.size(); ++i) {
-    hits[i] = index.meshes[i].bvh.segment_hits(c.base, tip);
-    any = any || !hits[i].empty();
-  }
-  if (!any) throw TopologyError("drill: the drill misses the model (its axis from base to tip meets no face)");
-  return hits;
+/// Per mesh, the faces whose boxes meet the box of the finite cylinder (a superset of those
+/// the drill meets): the drill's candidates, in every mesh, whether its axis pierces them or not.
+std::vector<std::vector<int>> candidate_faces(const SurfaceIndex& index, const Cylinder& c) {
+  const Eigen::Vector3d tip = c.base + c.length * c.axis;
+  // A disk of radius r about the unit axis n reaches r·√(1 − n_k²) along axis k.
+  const Eigen::Vector3d reach = c.radius * (Eigen::Vector3d::Ones() - c.axis.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+  Eigen::Vector3d lo = c.base.cwiseMin(tip) - reach, hi = c.base.cwiseMax(tip) + reach;
+  const double margin = 1e-6 * (hi - lo).norm();  // the tree's boxes are floats
+  lo.array() -= margin;
+  hi.array() += margin;
+  std::vector<std::vector<int>> out(index.meshes.size());
+  for (std::size_t i = 0; i < index.meshes.size(); ++i) index.meshes[i].bvh.faces_in_box(lo, hi, out[i]);
+  return out;
+}
+
+/// @throws TopologyError when the drill meets no face of any mesh.
+void require_hit(const DrillStats& stats) {
+  if (stats.faces_affected == 0)
+    throw TopologyError("drill: the drill misses the model (no face meets the cylinder between its base and tip)");
 }
 
 /// Whether an edit changes its mesh: a face that a disk inside it left as it was is re-emitted
@@ -889,13 +1027,21 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
   require_placement_fits(model, placement);
   const Cylinder c = make_cylinder(tip, base, radius, options);
   require_index_fits(model, index, "drill");
-  const auto hits = axis_hits(index, c, tip);
+  const auto candidates = candidate_faces(index, c);
   ModelDrill out;
-  std::vector<bool> changed(model.meshes.size(), false);
+  std::vector<LocalEdit> edits(model.meshes.size());
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    out.faces_in += static_cast<int>(model.meshes[i].face_count());
+    if (!candidates[i].empty())
+      Driller(model.meshes[i], placement.positions[i], index.meshes[i], c, options).run(candidates[i], edits[i], out);
+  }
+  require_hit(out);
+  std::vector<bool> changed(edits.size());
+  std::transform(edits.begin(), edits.end(), changed.begin(), changes);
+  require_change(changed, out);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
-    out.faces_in += static_cast<int>(m.face_count());
-    if (hits[i].empty()) {
+    if (edits[i].removed_faces.empty()) {  // not reached: copied as it is
       out.model.meshes.push_back(m);
       out.source_mesh.push_back(static_cast<int>(i));
       std::vector<mesh::VertexSource> identity(static_cast<std::size_t>(m.vertex_count()));
@@ -905,11 +1051,8 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
       out.faces_out += static_cast<int>(m.face_count());
       continue;
     }
-    LocalEdit edit;
-    Driller(m, placement.positions[i], index.meshes[i], c, options).run(hits[i], edit, out);
-    changed[i] = changes(edit);
-    out.faces_removed += static_cast<int>(edit.removed_faces.size());
-    EditedMesh e = apply_edit(m, placement.positions[i], placement.palettes[i], edit, options.rest);
+    out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
+    EditedMesh e = apply_edit(m, placement.positions[i], placement.palettes[i], edits[i], options.rest);
     out.new_vertices += blended_count(e.origins);
     if (e.mesh.face_count() == 0) {
       out.warnings.push_back("mesh '" + m.name + "' is drilled away entirely");
@@ -921,7 +1064,6 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     out.origins.push_back(std::move(e.origins));
     out.placed.push_back(std::move(e.placed));
   }
-  require_change(changed, out);
   copy_rig(model, out.model);
   return out;
 }
@@ -929,23 +1071,24 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
 LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                 const DrillOptions& options) {
   const Cylinder c = make_cylinder(tip, base, radius, options);
-  const auto hits = axis_hits(live.index(), c, tip);
+  const auto candidates = candidate_faces(live.index(), c);
   const anim::RiggedModel& model = live.model();
   LiveDrill out;
   // Every edit is made before any is applied, so that a throw leaves `live` as it was.
   std::vector<LocalEdit> edits(model.meshes.size());
   out.faces_in = face_total(model);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    if (hits[i].empty()) continue;
+    if (candidates[i].empty()) continue;
     Driller(model.meshes[i], live.placement().positions[i], live.index().meshes[i], c, options)
-        .run(hits[i], edits[i], out);
+        .run(candidates[i], edits[i], out);
     out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
   }
+  require_hit(out);
   std::vector<bool> changed(edits.size());
   std::transform(edits.begin(), edits.end(), changed.begin(), changes);
   require_change(changed, out);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    if (hits[i].empty()) continue;
+    if (edits[i].removed_faces.empty()) continue;
     AppliedEdit applied = apply_edit_in_place(live, i, edits[i], options.rest);
     out.new_vertices += blended_count(applied.change.origins);
     if (model.meshes[i].face_count() == 0)

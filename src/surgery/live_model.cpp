@@ -280,7 +280,11 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   placed.conservativeResize(m.vertex_count(), Eigen::NoChange);
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
     if (out.fresh[k] >= 0) placed.row(out.fresh[k]) = edit.new_placed[k].cast<float>().transpose();
-  solve_rest_positions(m, live.placement().palettes[i], placed, out.change.origins, nv, rest);
+  std::vector<char> off_surface;
+  off_surface.reserve(out.change.origins.size());
+  for (std::size_t k = 0; k < out.fresh.size(); ++k)
+    if (out.fresh[k] >= 0) off_surface.push_back(edit.new_off_surface[k]);
+  solve_rest_positions(m, live.placement().palettes[i], placed, out.change.origins, nv, rest, off_surface);
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
     if (out.fresh[k] >= 0) set_placed_normal(m, live.placement().palettes[i], out.fresh[k], edit.new_normal[k]);
 

@@ -150,17 +150,19 @@ std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& e
     for (int x : t)
       if (x < 0 || x >= total)
         throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
-  if (edit.new_placed.size() != edit.new_vertices.size() || edit.new_normal.size() != edit.new_vertices.size())
+  if (edit.new_placed.size() != edit.new_vertices.size() || edit.new_normal.size() != edit.new_vertices.size() ||
+      edit.new_off_surface.size() != edit.new_vertices.size())
     throw InvalidInputError("surgery: the edit has a placed position for " + std::to_string(edit.new_placed.size()) +
                             " of its " + std::to_string(edit.new_vertices.size()) + " new vertices");
   return removed;
 }
 
 void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, const mesh::RowMatrixXf<3>& placed,
-                          std::span<const mesh::VertexSource> origins, Eigen::Index first, RestPosition rest) {
-  if (rest == RestPosition::parametric) return;
+                          std::span<const mesh::VertexSource> origins, Eigen::Index first, RestPosition rest,
+                          std::span<const char> off_surface) {
   for (std::size_t k = 0; k < origins.size(); ++k) {
-    if (origins[k].count() == 1) continue;
+    const bool forced = !off_surface.empty() && off_surface[k] != 0;
+    if (!forced && (rest == RestPosition::parametric || origins[k].count() == 1)) continue;
     const Eigen::Index v = first + static_cast<Eigen::Index>(k);
     const Eigen::Matrix<double, 3, 4> a = anim::blended_affine(m, palette, v);
     const Eigen::Matrix3d l = a.leftCols<3>();
@@ -246,8 +248,11 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
     fresh_placed.row(static_cast<Eigen::Index>(i)) =
         edit.new_placed[static_cast<std::size_t>(fresh[i] - nv)].cast<float>().transpose();
   out.placed = stack_rows(placed, kept, all, fresh_placed);
+  std::vector<char> off_surface(fresh.size());
+  for (std::size_t i = 0; i < fresh.size(); ++i)
+    off_surface[i] = edit.new_off_surface[static_cast<std::size_t>(fresh[i] - nv)];
   solve_rest_positions(m, palette, out.placed, std::span(out.origins).subspan(kept.size()),
-                       static_cast<Eigen::Index>(kept.size()), rest);
+                       static_cast<Eigen::Index>(kept.size()), rest, off_surface);
   for (std::size_t i = 0; i < fresh.size(); ++i)
     set_placed_normal(m, palette, static_cast<Eigen::Index>(kept.size() + i),
                       edit.new_normal[static_cast<std::size_t>(fresh[i] - nv)]);

@@ -99,6 +99,9 @@ struct LocalEdit {
   /// Per new vertex: its placed unit normal where it has one of its own (a hole's wall), else
   /// zero (blended from its origin like its other attributes).
   std::vector<Eigen::Vector3d> new_normal;
+  /// Per new vertex: whether it lies off the input surface (a blind hole's wall), so that its
+  /// rest position can only come from its placed one (always solved, whatever RestPosition).
+  std::vector<char> new_off_surface;
   std::vector<int> removed_faces;             ///< old faces dropped (each once)
   std::vector<std::array<int, 3>> new_faces;  ///< over extended ids
   /// Per new face: the removed face it lies in, when every new face has one (it may fill that
@@ -107,11 +110,13 @@ struct LocalEdit {
 
   /// Adds a new vertex; returns its extended id.
   int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count,
-                 signed char side = 0, const Eigen::Vector3d& normal = Eigen::Vector3d::Zero()) {
+                 signed char side = 0, const Eigen::Vector3d& normal = Eigen::Vector3d::Zero(),
+                 bool off_surface = false) {
     new_vertices.push_back(source);
     new_placed.push_back(placed);
     new_side.push_back(side);
     new_normal.push_back(normal);
+    new_off_surface.push_back(off_surface ? 1 : 0);
     return old_vertex_count + static_cast<int>(new_vertices.size()) - 1;
   }
 };
@@ -174,12 +179,14 @@ struct AppliedEdit {
 /// an edge or a face; copies of old vertices keep theirs). `exact`: the solution x of
 /// A x + b = p, with A x + b the vertex's blended map (anim::blended_affine) and p its placed
 /// position, so that eq. (17) takes it back onto the tool; `parametric`: left as resample()
-/// blended them.
-/// @param[in,out] m        the edited mesh, its new vertices' weights already set
-/// @param[in]     palette  the `cga` palette the placement was skinned with
-/// @param[in]     placed   #V×3 placed positions of m
+/// blended them. Rows with off_surface[k] set are solved in any case.
+/// @param[in,out] m            the edited mesh, its new vertices' weights already set
+/// @param[in]     palette      the `cga` palette the placement was skinned with
+/// @param[in]     placed       #V×3 placed positions of m
+/// @param[in]     off_surface  empty, or one flag per origin
 void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, const mesh::RowMatrixXf<3>& placed,
-                          std::span<const mesh::VertexSource> origins, Eigen::Index first, RestPosition rest);
+                          std::span<const mesh::VertexSource> origins, Eigen::Index first, RestPosition rest,
+                          std::span<const char> off_surface = {});
 
 /// Sets the rest normal of vertex v of `m` so that skinning turns it into `placed_normal`
 /// (anim::skin_normals maps n by the cofactor of the blended linear map L, so n = Lᵀ n′). A zero

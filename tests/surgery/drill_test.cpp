@@ -4,6 +4,7 @@
 #include "cgamesh/surgery/drill.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <numbers>
 #include <random>
@@ -13,9 +14,11 @@
 #include <gtest/gtest.h>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/mesh/subdivide.hpp"
 #include "cgamesh/mesh/triangle_bvh.hpp"
 
+#include "anim/model_fixtures.hpp"
 #include "surgery/surgery_checks.hpp"
 #include "surgery/surgery_fixtures.hpp"
 
@@ -37,11 +40,27 @@ double axis_distance(const V3& x, const V3& tip, const V3& base) {
 
 V3 row(const Points& p, Eigen::Index v) { return p.row(v).cast<double>().transpose(); }
 
-/// Whether x lies inside the finite cylinder of radius r from `base` to `tip`.
-bool in_drill(const V3& x, const V3& tip, const V3& base, double r) {
+/// Height above the base along the axis, and distance from the axis, of x.
+std::pair<double, double> drill_coordinates(const V3& x, const V3& tip, const V3& base) {
   const V3 n = (tip - base).normalized();
-  const double h = n.dot(x - base);
-  return h > 0 && h < (tip - base).norm() && axis_distance(x, tip, base) < r;
+  return {n.dot(x - base), axis_distance(x, tip, base)};
+}
+
+/// Whether x lies inside the finite drill by more than tol.
+bool deep_inside(const V3& x, const V3& tip, const V3& base, double r, double tol) {
+  const auto [h, rho] = drill_coordinates(x, tip, base);
+  return h > tol && h < (tip - base).norm() - tol && rho < r - tol;
+}
+
+/// Whether x lies outside the finite drill by more than tol.
+bool clearly_outside(const V3& x, const V3& tip, const V3& base, double r, double tol) {
+  const auto [h, rho] = drill_coordinates(x, tip, base);
+  return h < -tol || h > (tip - base).norm() + tol || rho > r + tol;
+}
+
+/// Whether x lies on the drill's boundary (the cylinder between the disks, or an end disk).
+bool on_drill_boundary(const V3& x, const V3& tip, const V3& base, double r, double tol) {
+  return !deep_inside(x, tip, base, r, tol) && !clearly_outside(x, tip, base, r, tol);
 }
 
 /// Vertex ids of a drilled mesh welded through their origins (weld_points).
@@ -162,11 +181,94 @@ TEST(Drill, BoxDrilledThroughWithAWallIsClosedAndWithoutItHasTwoRims) {
   }
   EXPECT_GT(worst, 0.8);
 
-  // A drill stopping inside the box leaves its one rim open, with a warning.
-  const ModelDrill blind = surgery::drill(model, placement, V3(0.45, 0.55, 0.5), base, r, wall);
+  // A drill stopping inside the box makes a blind hole: without the wall one open rim; with it
+  // a tube down to the tip's disk and that disk, so the box stays closed, less the hole.
+  const V3 inside(0.45, 0.55, 0.5);
+  const ModelDrill blind_open = surgery::drill(model, placement, inside, base, r);
+  EXPECT_EQ(blind_open.rims, 1);
+  EXPECT_EQ(boundary_edges(blind_open.model.meshes[0].faces, weld_points(blind_open, 0, model)).size(),
+            rim_edges(blind_open, 0, model, inside, base, r, 1e-5).size());
+  const ModelDrill blind = surgery::drill(model, placement, inside, base, r, wall);
   EXPECT_EQ(blind.rims, 1);
-  EXPECT_EQ(blind.wall_triangles, 0);
-  EXPECT_EQ(blind.warnings.size(), 1u);
+  EXPECT_GT(blind.wall_triangles, 0);
+  EXPECT_TRUE(blind.warnings.empty()) << blind.warnings.front();
+  const mesh::Mesh& bm = blind.model.meshes[0];
+  expect_sane_mesh(bm, "box");
+  EXPECT_TRUE(closed_and_oriented(bm.faces, weld(blind.placed[0])));
+  const double bv = volume(bm.faces, blind.placed[0]), hole = std::numbers::pi * r * r * 0.5;
+  EXPECT_LT(bv, 1 - 0.8 * hole);
+  EXPECT_GT(bv, 1 - hole);
+}
+
+// The drill is finite: between base and tip only. Of two parallel layers it holes the one it
+// reaches, and a second mesh that its body grazes (the axis passes beside it) is cut as well.
+TEST(Drill, OnlyWhatLiesBetweenBaseAndTipGoesInEveryMesh) {
+  mesh::Mesh near = grid(4), far = grid(4), side = grid(4);
+  far.positions.col(2).setConstant(1.0f);
+  far.name = "far";
+  // `side` stands upright in x = 2.3, beside the axis x = 2 (within the radius 0.5).
+  side.positions.col(2) = side.positions.col(0).array() * 0.25f - 0.5f;
+  side.positions.col(0).setConstant(2.3f);
+  side.name = "side";
+  anim::RiggedModel model = static_model(near);
+  model.meshes.push_back(far);
+  model.meshes.push_back(side);
+  for (auto& m : model.meshes) m.node = 0;
+  const auto placement = rest_placement(model);
+  const V3 base(2, 2, -0.5), tip(2, 2, 0.5);
+  const ModelDrill d = surgery::drill(model, placement, tip, base, 0.5);
+  ASSERT_EQ(d.model.meshes.size(), 3u);
+  EXPECT_LT(area(d.model.meshes[0].faces, d.placed[0]), 16 - 0.6);    // holed
+  EXPECT_NEAR(area(d.model.meshes[1].faces, d.placed[1]), 16, 1e-9);  // beyond the tip: untouched
+  EXPECT_EQ(d.model.meshes[1].faces, far.faces);
+  EXPECT_LT(area(d.model.meshes[2].faces, d.placed[2]), 16 - 0.05);  // grazed: a slot cut out
+  for (std::size_t k = 0; k < 3; ++k)
+    for (Eigen::Index v = 0; v < d.placed[k].rows(); ++v)
+      EXPECT_FALSE(deep_inside(row(d.placed[k], v), tip, base, 0.5, 1e-6)) << "mesh " << k << " vertex " << v;
+}
+
+/// The reported drills on real models, re-posed at the drill's time: no vertex inside the
+/// finite cylinder, and every vertex outside it kept.
+void expect_exact_finite_drill(const std::filesystem::path& path, double time, const V3& tip, const V3& base,
+                               double r) {
+  const anim::RiggedModel model = io::load_model(path);
+  const surgery::Placement placement =
+      surgery::place(model, anim::sample(model.skeleton, model.clips[0], time, anim::BlendMode::format));
+  const ModelDrill d = surgery::drill(model, placement, tip, base, r);
+  SCOPED_TRACE(path.string());
+  double diag = 0;
+  for (const Points& p : placement.positions)
+    diag = std::max(diag, static_cast<double>((p.colwise().maxCoeff() - p.colwise().minCoeff()).norm()));
+  const double tol = 1e-5 * diag;
+  for (std::size_t k = 0; k < d.model.meshes.size(); ++k) {
+    const Points posed = skinned(d.model, d.model.meshes[k], time);
+    for (Eigen::Index v = 0; v < posed.rows(); ++v)
+      ASSERT_FALSE(deep_inside(row(posed, v), tip, base, r, tol)) << "mesh " << k << " vertex " << v;
+  }
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    std::set<int> kept;
+    for (std::size_t k = 0; k < d.model.meshes.size(); ++k)
+      if (d.source_mesh[k] == static_cast<int>(i))
+        for (const mesh::VertexSource& o : d.origins[k])
+          if (o.count() == 1) kept.insert(o.vertex[0]);
+    for (Eigen::Index v = 0; v < placement.positions[i].rows(); ++v)
+      if (clearly_outside(row(placement.positions[i], v), tip, base, r, tol)) {
+        ASSERT_TRUE(kept.contains(static_cast<int>(v))) << "mesh " << i << ": vertex " << v << " outside removed";
+      }
+  }
+}
+
+TEST(Drill, ReportedDrillsTakeExactlyWhatTheFiniteCylinderHolds) {
+  // Vertices 28 % of the drill's length past the tip were removed.
+  expect_exact_finite_drill(asset("RiggedFigure.glb"), 0.5, V3(-0.26027551, 0.91589758, -0.037529802),
+                            V3(-0.27406076, 0.89667625, -0.17349415), 0.025876221);
+  // 9 vertices behind the base were removed.
+  expect_exact_finite_drill(demo_model(), 0.2527, V3(0.13120415, 1.3030337, 0.0099706531),
+                            V3(0.11531163, 1.1269964, 0.027217668), 0.034332581);
+  // Faces sharing no vertices, with a crack in the pose: 21 vertices were left inside.
+  if (std::filesystem::exists(assimp_model("X/Testwuson.X")))
+    expect_exact_finite_drill(assimp_model("X/Testwuson.X"), 0.4831, V3(0.13825737, 0.63089703, 0.85702889),
+                              V3(-0.18315479, 0.58993731, 1.0141245), 0.069050168);
 }
 
 TEST(Drill, ADrillSmallerThanTheFacesRefinesUntilTheRimHasEnoughPoints) {
@@ -224,11 +326,11 @@ TEST(Drill, AxisThroughACubeCornerOrAlongAnEdgeIsAHit) {
   EXPECT_GT(d.new_vertices, 0);
   EXPECT_EQ(d.rims, 1);
   for (Eigen::Index v = 0; v < d.model.meshes[0].vertex_count(); ++v)
-    EXPECT_FALSE(in_drill(row(d.placed[0], v), tip, base, 0.2 - 1e-5)) << row(d.placed[0], v).transpose();
+    EXPECT_FALSE(deep_inside(row(d.placed[0], v), tip, base, 0.2, 1e-5)) << row(d.placed[0], v).transpose();
   const ModelDrill e = surgery::drill(model, placement, V3(1, 0, 1.5), V3(1, 0, -0.5), 0.25);
   EXPECT_GT(e.faces_removed, 0);
   for (Eigen::Index v = 0; v < e.model.meshes[0].vertex_count(); ++v)
-    EXPECT_FALSE(in_drill(row(e.placed[0], v), V3(1, 0, 1.5), V3(1, 0, -0.5), 0.25 - 1e-5));
+    EXPECT_FALSE(deep_inside(row(e.placed[0], v), V3(1, 0, 1.5), V3(1, 0, -0.5), 0.25, 1e-5));
 }
 
 TEST(Drill, AxisThroughAnEdgeOrAVertex) {
@@ -287,32 +389,13 @@ TEST(Drill, ADrillWiderThanTheModelRemovesIt) {
 
 // ---- properties on real models -----------------------------------------------------------------
 
-/// Old welded vertices strictly inside the cylinder that the drill must remove: those joined by
-/// edges inside the cylinder to a face the axis pierces (an independent flood fill).
+/// Welded ids of the vertices of `old` (placed at `placed`) inside the finite drill: every one
+/// of them must go, in every mesh, whether the axis pierces its faces or not.
 std::set<int> must_go(const mesh::Mesh& old, const Points& placed, const std::vector<int>& w, const V3& tip,
                       const V3& base, double r, double tol) {
-  const mesh::TriangleBvh bvh(placed, old.faces);
-  const auto inside = [&](int v) { return axis_distance(row(placed, v), tip, base) < r - tol; };
-  std::map<int, std::vector<int>> adjacent;  // welded, between inside vertices
-  for (Eigen::Index f = 0; f < old.face_count(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = old.faces(f, k), b = old.faces(f, (k + 1) % 3);
-      if (inside(a) && inside(b)) {
-        adjacent[w[static_cast<std::size_t>(a)]].push_back(w[static_cast<std::size_t>(b)]);
-        adjacent[w[static_cast<std::size_t>(b)]].push_back(w[static_cast<std::size_t>(a)]);
-      }
-    }
   std::set<int> out;
-  std::vector<int> stack;
-  for (const auto& hit : bvh.segment_hits(base, tip))
-    for (int k = 0; k < 3; ++k)
-      if (inside(old.faces(hit.face, k))) stack.push_back(w[static_cast<std::size_t>(old.faces(hit.face, k))]);
-  while (!stack.empty()) {
-    const int v = stack.back();
-    stack.pop_back();
-    if (!out.insert(v).second) continue;
-    for (int u : adjacent[v]) stack.push_back(u);
-  }
+  for (Eigen::Index v = 0; v < old.vertex_count(); ++v)
+    if (deep_inside(row(placed, v), tip, base, r, tol)) out.insert(w[static_cast<std::size_t>(v)]);
   return out;
 }
 
@@ -338,15 +421,23 @@ void check_drill(const Subject& s, const surgery::SurfaceIndex& index, const V3&
     const auto old_weld = weld(old.positions);
     const auto w = weld_points(d, k, s.model);
     const std::set<int> gone = must_go(old, s.placement.positions[src], old_weld, tip, base, r, tol);
+    std::set<int> kept;
     for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
       const mesh::VertexSource& o = origins[static_cast<std::size_t>(v)];
       if (o.count() == 1) {
+        kept.insert(old_weld[static_cast<std::size_t>(o.vertex[0])]);
         ASSERT_FALSE(gone.contains(old_weld[static_cast<std::size_t>(o.vertex[0])]))
             << what << ": vertex left in the hole";
       } else {
-        ASSERT_GE(axis_distance(row(placed, v), tip, base), r - tol) << what << ": a new vertex inside the drill";
+        ASSERT_FALSE(deep_inside(row(placed, v), tip, base, r, tol)) << what << ": a new vertex inside the drill";
       }
     }
+    // Only what the finite drill holds goes: nothing beyond the tip or behind the base.
+    for (Eigen::Index v = 0; v < old.vertex_count(); ++v)
+      if (clearly_outside(row(s.placement.positions[src], v), tip, base, r, tol)) {
+        ASSERT_TRUE(kept.contains(old_weld[static_cast<std::size_t>(v)]))
+            << what << ": vertex " << v << " outside the drill removed";
+      }
     // New boundary edges are rim chords on the cylinder, or pieces of old boundary edges.
     std::set<std::pair<int, int>> old_boundary;
     for (const auto& [a, b] : boundary_edges(old.faces, old_weld))
@@ -361,9 +452,16 @@ void check_drill(const Subject& s, const surgery::SurfaceIndex& index, const V3&
     };
     const auto boundary = boundary_edges(m.faces, w);
     for (const auto& [a, b] : boundary) {
-      const bool rim = std::abs(axis_distance(row(placed, a), tip, base) - r) <= tol &&
-                       std::abs(axis_distance(row(placed, b), tip, base) - r) <= tol;
-      ASSERT_TRUE(rim || on_old_boundary(a, b)) << what << ": a new boundary edge off the cylinder";
+      const bool rim =
+          on_drill_boundary(row(placed, a), tip, base, r, tol) && on_drill_boundary(row(placed, b), tip, base, r, tol);
+      ASSERT_TRUE(rim || on_old_boundary(a, b))
+          << what << ": a new boundary edge off the drill's boundary: (h, ρ) = ("
+          << drill_coordinates(row(placed, a), tip, base).first << ", "
+          << drill_coordinates(row(placed, a), tip, base).second << "), ("
+          << drill_coordinates(row(placed, b), tip, base).first << ", "
+          << drill_coordinates(row(placed, b), tip, base).second << ") L " << (tip - base).norm() << " r " << r
+          << " origins " << origins[static_cast<std::size_t>(a)].count()
+          << origins[static_cast<std::size_t>(b)].count();
     }
     if (s.closed) {
       EXPECT_TRUE(boundary_is_loops(boundary)) << what << ": the rims are not closed loops";
@@ -376,7 +474,7 @@ void check_drill(const Subject& s, const surgery::SurfaceIndex& index, const V3&
     if (!opt.wall) {
       EXPECT_LE(area(m.faces, placed), area(old.faces, s.placement.positions[src]) * (1 + 1e-6)) << what;
     }
-    expect_reanimates_like(s.model, src, d.model, k, origins, 1e-6 * diag);
+    expect_reanimates_like(s.model, src, d.model, k, origins, 1e-6 * diag, &placed);
     if (::testing::Test::HasFatalFailure()) return;
   }
   EXPECT_EQ(faces_out, d.faces_out);

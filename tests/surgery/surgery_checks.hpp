@@ -1,8 +1,6 @@
 #pragma once
 // Invariants every surgery result must satisfy, shared by the cut, tear and drill tests.
 
-#include <gtest/gtest.h>
-
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <gtest/gtest.h>
 
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
@@ -52,7 +51,8 @@ inline std::vector<int> weld_origins(const std::vector<cgamesh::mesh::VertexSour
   for (std::size_t i = 0; i < origins.size(); ++i) {
     std::array<int, 3> key{-1, -1, -1};
     for (int k = 0; k < origins[i].count(); ++k)
-      key[static_cast<std::size_t>(k)] = old_weld[static_cast<std::size_t>(origins[i].vertex[static_cast<std::size_t>(k)])];
+      key[static_cast<std::size_t>(k)] =
+          old_weld[static_cast<std::size_t>(origins[i].vertex[static_cast<std::size_t>(k)])];
     std::sort(key.begin(), key.end());
     out[i] = first.try_emplace(key, static_cast<int>(i)).first->second;
   }
@@ -83,7 +83,8 @@ inline std::vector<int> weld_points(const std::vector<cgamesh::mesh::VertexSourc
 inline std::map<std::pair<int, int>, int> directed_edges(const Faces& f, const std::vector<int>& w) {
   std::map<std::pair<int, int>, int> e;
   for (Eigen::Index i = 0; i < f.rows(); ++i)
-    for (int k = 0; k < 3; ++k) ++e[{w[static_cast<std::size_t>(f(i, k))], w[static_cast<std::size_t>(f(i, (k + 1) % 3))]}];
+    for (int k = 0; k < 3; ++k)
+      ++e[{w[static_cast<std::size_t>(f(i, k))], w[static_cast<std::size_t>(f(i, (k + 1) % 3))]}];
   return e;
 }
 
@@ -161,8 +162,7 @@ inline void expect_sane_mesh(const cgamesh::mesh::Mesh& m, const std::string& wh
     const auto w = m.skin.weights.row(v);
     EXPECT_GE(w.minCoeff(), 0.0f) << what << " vertex " << v;
     EXPECT_NEAR(w.sum(), 1.0f, 1e-5f) << what << " vertex " << v;
-    for (int k = 0; k < 4; ++k)
-      EXPECT_LT(m.skin.joints(v, k), m.skin.palette.size()) << what << " vertex " << v;
+    for (int k = 0; k < 4; ++k) EXPECT_LT(m.skin.joints(v, k), m.skin.palette.size()) << what << " vertex " << v;
   }
 }
 
@@ -191,19 +191,26 @@ inline std::array<float, 6> origin_key(const cgamesh::mesh::VertexSource& s) {
 /// the input surface (seam and tear copies) move together, so no seam cracks.
 inline void expect_reanimates_like(const cgamesh::anim::RiggedModel& before, std::size_t src,
                                    const cgamesh::anim::RiggedModel& after, std::size_t dst,
-                                   const std::vector<cgamesh::mesh::VertexSource>& origins, double tolerance) {
+                                   const std::vector<cgamesh::mesh::VertexSource>& origins, double tolerance,
+                                   const Points* placed = nullptr) {
   const cgamesh::mesh::Mesh& m = after.meshes[dst];
   for (double t : {0.3, 1.1}) {
     const Points now = skinned(after, m, t);
     const Points old = skinned(before, before.meshes[src], t);
-    std::map<std::array<float, 6>, Eigen::Vector3f> seen;
+    // Copies of one point: one origin and (when given) one placed position; a drill's blind
+    // hole has points off the surface that take the influences of the rim point above them.
+    std::map<std::array<float, 9>, Eigen::Vector3f> seen;
     for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
       const cgamesh::mesh::VertexSource& o = origins[static_cast<std::size_t>(v)];
       if (o.count() == 1) {
         ASSERT_LE((now.row(v) - old.row(o.vertex[0])).norm(), tolerance) << "old vertex " << o.vertex[0] << " t=" << t;
         continue;
       }
-      const auto [it, added] = seen.try_emplace(origin_key(o), now.row(v).transpose());
+      const auto o6 = origin_key(o);
+      std::array<float, 9> key{o6[0], o6[1], o6[2], o6[3], o6[4], o6[5], 0, 0, 0};
+      if (placed != nullptr)
+        for (int c = 0; c < 3; ++c) key[static_cast<std::size_t>(6 + c)] = (*placed)(v, c);
+      const auto [it, added] = seen.try_emplace(key, now.row(v).transpose());
       if (!added) {
         ASSERT_LE((it->second - now.row(v).transpose()).norm(), tolerance) << "copies of a new vertex part, t=" << t;
       }

@@ -23,8 +23,9 @@ inline constexpr int kMaxRefinements = 12;
 
 struct DrillOptions {
   /// Line the hole with a tube between each entry rim and the exit rim that follows it along
-  /// the axis, so that a closed input stays closed (beyond the paper). Rims without a partner
-  /// are left open with a warning.
+  /// the axis, and a blind hole (an entry rim with no exit before the tip) with a tube down to
+  /// the tip's disk and that disk, so that a closed input stays closed (beyond the paper).
+  /// Other rims (at a mesh boundary, or cut by an end disk) are left open with a warning.
   bool wall = false;
   /// A rim with fewer points than this (or a disk lying inside one face) is too coarse: the
   /// faces the rim crosses are split 1→4 (red-green, no T-junctions) and drilled again (paper
@@ -76,22 +77,25 @@ struct LiveDrill : DrillStats {
   std::vector<MeshChange> changes;  ///< one per mesh the drill reached
 };
 
-/// Drills `model`, placed in `placement`, with the cylinder of radius `radius` around the axis
-/// from `base` B to `tip` A. As in Algorithm 3, a vertex is inside when its projection onto
-/// the plane Π ⟂ AB through B is closer to B than r; the faces pierced by the segment [B, A]
-/// and the faces reached from them through faces that meet the cylinder are affected, so the
-/// hole goes through every surface layer the drill body reaches and stops at the tip. Each
-/// crossed edge gets its intersection points from the quadratic Kα² + Lα + N = 0 of
-/// eqs. (18)–(20) (a double root is a touch, not a hole); the part of each affected face
-/// outside the cylinder is re-triangulated (the arcs become chords) and the rest removed. New
-/// vertices are points on old edges or faces, weighted as in section 4.3.
+/// Drills `model`, placed in `placement`, with the finite cylinder of radius `radius` around
+/// the axis from `base` B to `tip` A. As in Algorithm 3, a point is inside when its projection
+/// onto the plane Π ⟂ AB through B is closer to B than r — and, the drill being finite, when
+/// its height above Π lies between 0 and |AB|. Every face of every mesh that meets the cylinder
+/// is affected (found through the BVH, whether the axis pierces it or only grazes it), so the
+/// hole goes through every surface layer the drill body reaches and stops at the tip: a tip
+/// inside the material makes a blind hole, whose bottom is cut at the tip's disk. Each crossed
+/// edge gets its intersection points with the cylinder from the quadratic Kα² + Lα + N = 0 of
+/// eqs. (18)–(20) (a double root is a touch, not a hole) and with the end disks' planes; the
+/// part of each affected face outside the drill is re-triangulated (the arcs become chords)
+/// and the rest removed. New vertices are points on old edges or faces, weighted as in
+/// section 4.3.
 /// Cost: the affected region, not the mesh (apart from assembling the output meshes).
 /// @param[in] index   SurfaceIndex::build(model, placement)
 /// @param[in] tip, base  world-space end points A and B of the drill axis
 /// @throws InvalidInputError for radius <= 0 or NaN, tip == base, non-finite points, bad
 ///         options, or a placement or index that does not fit the model.
-/// @throws TopologyError when the axis segment [B, A] meets no face (the drill misses), or
-///         the drill changes nothing (it lies inside a face even after refinement).
+/// @throws TopologyError when the cylinder meets no face (the drill misses), or the drill
+///         changes nothing (it lies inside a face even after refinement).
 [[nodiscard]] ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
                                const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                                const DrillOptions& options = {});
