@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <numeric>
 #include <string>
 #include <vector>
 
@@ -11,62 +10,15 @@
 #include <Eigen/SparseCore>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/mesh/union_find.hpp"
+#include "cgamesh/mesh/weld.hpp"
 
 namespace cgamesh::deform {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
-struct HarmonicPrecomputation::Impl {
-  std::vector<int> node_of_vertex;  ///< #V welded node of each vertex
-  std::vector<int> slot_of_node;    ///< free index (>= 0) or -1 - constrained-node index
-  std::vector<int> constrained;     ///< #C vertex indices as given
-  int constrained_nodes = 0;
-  SparseMatrix free_by_constrained;  ///< W_fc: the right-hand side is W_fc x_c
-  Eigen::SimplicialLDLT<SparseMatrix> ldlt;
-};
-
-HarmonicPrecomputation::HarmonicPrecomputation(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-HarmonicPrecomputation::HarmonicPrecomputation(HarmonicPrecomputation&&) noexcept = default;
-HarmonicPrecomputation& HarmonicPrecomputation::operator=(HarmonicPrecomputation&&) noexcept = default;
-HarmonicPrecomputation::~HarmonicPrecomputation() = default;
-Eigen::Index HarmonicPrecomputation::vertex_count() const noexcept {
-  return static_cast<Eigen::Index>(impl_->node_of_vertex.size());
-}
-Eigen::Index HarmonicPrecomputation::constrained_count() const noexcept {
-  return static_cast<Eigen::Index>(impl_->constrained.size());
-}
-
-namespace {
-
-/// Node of each vertex: vertices at bit-identical positions share one (seams welded).
-std::vector<int> weld(const mesh::RowMatrixXf<3>& p, int& node_count) {
-  const auto n = static_cast<int>(p.rows());
-  std::vector<int> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  const auto key = [&](int i) { return std::array<float, 3>{p(i, 0), p(i, 1), p(i, 2)}; };
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
-  std::vector<int> node(static_cast<std::size_t>(n));
-  node_count = 0;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    if (k > 0 && key(order[k]) != key(order[k - 1])) ++node_count;
-    node[static_cast<std::size_t>(order[k])] = node_count;
-  }
-  if (n > 0) ++node_count;
-  return node;
-}
-
-int find_root(std::vector<int>& parent, int i) {
-  while (parent[static_cast<std::size_t>(i)] != i) {
-    parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-    i = parent[static_cast<std::size_t>(i)];
-  }
-  return i;
-}
-
-/// Symmetric edge weights W (node x node) of the non-degenerate triangles; joins their
-/// nodes in `parent` (union-find) on the way.
-SparseMatrix edge_weights(const mesh::Mesh& mesh, const std::vector<int>& node, int node_count,
-                          LaplacianWeights weights, std::vector<int>& parent) {
+SparseMatrix laplacian_edge_weights(const mesh::Mesh& mesh, std::span<const int> node, int node_count,
+                                    LaplacianWeights weights) {
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(static_cast<std::size_t>(mesh.face_count()) * 12);
   const auto add = [&](int i, int j, double w) {
@@ -100,50 +52,47 @@ SparseMatrix edge_weights(const mesh::Mesh& mesh, const std::vector<int>& node, 
         add(n[j], n[k], 0.5 * dot / cross);
       }
     }
-    parent[static_cast<std::size_t>(find_root(parent, n[1]))] = find_root(parent, n[0]);
-    parent[static_cast<std::size_t>(find_root(parent, n[2]))] = find_root(parent, n[0]);
   }
   SparseMatrix w(node_count, node_count);
   w.setFromTriplets(triplets.begin(), triplets.end());
   return w;
 }
 
-}  // namespace
-
 HarmonicPrecomputation harmonic_precompute(const mesh::Mesh& mesh, std::span<const int> constrained,
                                            const HarmonicOptions& options) {
   if (constrained.empty())
     throw InvalidInputError("harmonic field: the constraint set is empty; constrain at least one vertex per part");
-  auto impl = std::make_unique<HarmonicPrecomputation::Impl>();
+  HarmonicPrecomputation pre;
   const Eigen::Index vertex_count = mesh.vertex_count();
   for (const int v : constrained)
     if (v < 0 || v >= vertex_count)
       throw InvalidInputError("harmonic field: constrained vertex " + std::to_string(v) + " is outside [0, " +
                               std::to_string(vertex_count) + ")");
-  int node_count = 0;
-  impl->node_of_vertex = weld(mesh.positions, node_count);
-  impl->constrained.assign(constrained.begin(), constrained.end());
-
-  std::vector<int> parent(static_cast<std::size_t>(node_count));
-  std::iota(parent.begin(), parent.end(), 0);
-  const SparseMatrix w = edge_weights(mesh, impl->node_of_vertex, node_count, options.weights, parent);
+  pre.node_of_vertex = mesh::weld_by_position(mesh.positions);
+  const int node_count = mesh::number_classes(pre.node_of_vertex);
+  pre.constrained.assign(constrained.begin(), constrained.end());
+  const SparseMatrix w = laplacian_edge_weights(mesh, pre.node_of_vertex, node_count, options.weights);
+  // Connected parts: nodes joined by an edge of non-zero weight.
+  mesh::UnionFind parts(static_cast<std::size_t>(node_count));
+  for (int col = 0; col < w.outerSize(); ++col)
+    for (SparseMatrix::InnerIterator it(w, col); it; ++it) parts.unite(static_cast<int>(it.row()), col);
 
   // Constrained nodes get slots -1, -2, ...; the others free indices 0, 1, ...
-  std::vector<int>& slot = impl->slot_of_node;
+  std::vector<int>& slot = pre.slot_of_node;
   slot.assign(static_cast<std::size_t>(node_count), 0);
   std::vector<char> component_constrained(static_cast<std::size_t>(node_count), 0);
   for (const int v : constrained) {
-    const int n = impl->node_of_vertex[static_cast<std::size_t>(v)];
-    if (slot[static_cast<std::size_t>(n)] == 0) slot[static_cast<std::size_t>(n)] = -1 - impl->constrained_nodes++;
-    component_constrained[static_cast<std::size_t>(find_root(parent, n))] = 1;
+    const int n = pre.node_of_vertex[static_cast<std::size_t>(v)];
+    if (slot[static_cast<std::size_t>(n)] == 0) slot[static_cast<std::size_t>(n)] = -1 - pre.constrained_nodes++;
+    component_constrained[static_cast<std::size_t>(parts.find(n))] = 1;
   }
   int free_count = 0;
   for (int n = 0; n < node_count; ++n) {
     if (slot[static_cast<std::size_t>(n)] < 0) continue;
-    if (!component_constrained[static_cast<std::size_t>(find_root(parent, n))]) {
-      const auto it = std::find(impl->node_of_vertex.begin(), impl->node_of_vertex.end(), n);
+    if (!component_constrained[static_cast<std::size_t>(parts.find(n))]) {
+      const auto it = std::find(pre.node_of_vertex.begin(), pre.node_of_vertex.end(), n);
       throw InvalidInputError("harmonic field: the connected part of the mesh containing vertex " +
-                              std::to_string(it - impl->node_of_vertex.begin()) +
+                              std::to_string(it - pre.node_of_vertex.begin()) +
                               " has no constrained vertex; its field is undetermined (constrain a vertex of "
                               "every part, or remove unreferenced vertices)");
     }
@@ -164,48 +113,47 @@ HarmonicPrecomputation harmonic_precompute(const mesh::Mesh& mesh, std::span<con
   for (int i = 0; i < free_count; ++i) ff.emplace_back(i, i, diagonal[i]);
   SparseMatrix lff(free_count, free_count);
   lff.setFromTriplets(ff.begin(), ff.end());
-  impl->free_by_constrained.resize(free_count, impl->constrained_nodes);
-  impl->free_by_constrained.setFromTriplets(fc.begin(), fc.end());
+  pre.free_by_constrained.resize(free_count, pre.constrained_nodes);
+  pre.free_by_constrained.setFromTriplets(fc.begin(), fc.end());
   if (free_count > 0) {
-    impl->ldlt.compute(lff);
-    if (impl->ldlt.info() != Eigen::Success)
+    pre.ldlt = std::make_unique<Eigen::SimplicialLDLT<SparseMatrix>>(lff);
+    if (pre.ldlt->info() != Eigen::Success)
       throw SolverError("harmonic field: the factorisation of the Laplacian failed (degenerate triangles, or "
                         "cotangent weights on a mesh with very obtuse triangles: try mean-value weights)");
   }
-  return HarmonicPrecomputation(std::move(impl));
+  return pre;
 }
 
 Eigen::MatrixXd harmonic_solve(const HarmonicPrecomputation& pre, const Eigen::MatrixXd& boundary) {
-  const auto& impl = pre.impl();
   if (boundary.rows() != pre.constrained_count())
     throw InvalidInputError("harmonic_solve: " + std::to_string(boundary.rows()) + " rows of boundary values for " +
                             std::to_string(pre.constrained_count()) + " constrained vertices");
   if (!boundary.allFinite()) throw InvalidInputError("harmonic_solve: a boundary value is NaN or infinite");
   const Eigen::Index k = boundary.cols();
-  Eigen::MatrixXd xc(impl.constrained_nodes, k);
-  std::vector<int> row_of_slot(static_cast<std::size_t>(impl.constrained_nodes), -1);
-  for (std::size_t r = 0; r < impl.constrained.size(); ++r) {
-    const int v = impl.constrained[r];
-    const int c = -1 - impl.slot_of_node[static_cast<std::size_t>(impl.node_of_vertex[static_cast<std::size_t>(v)])];
+  Eigen::MatrixXd xc(pre.constrained_nodes, k);
+  std::vector<int> row_of_slot(static_cast<std::size_t>(pre.constrained_nodes), -1);
+  for (std::size_t r = 0; r < pre.constrained.size(); ++r) {
+    const int v = pre.constrained[r];
+    const int c = -1 - pre.slot_of_node[static_cast<std::size_t>(pre.node_of_vertex[static_cast<std::size_t>(v)])];
     int& first = row_of_slot[static_cast<std::size_t>(c)];
     if (first < 0) {
       first = static_cast<int>(r);
       xc.row(c) = boundary.row(static_cast<Eigen::Index>(r));
     } else if (xc.row(c) != boundary.row(static_cast<Eigen::Index>(r))) {
       throw InvalidInputError("harmonic_solve: vertex " + std::to_string(v) + " gets a value different from vertex " +
-                              std::to_string(impl.constrained[static_cast<std::size_t>(first)]) +
+                              std::to_string(pre.constrained[static_cast<std::size_t>(first)]) +
                               " at the same position (or listed twice)");
     }
   }
   Eigen::MatrixXd xf;
-  if (impl.free_by_constrained.rows() > 0) {
-    xf = impl.ldlt.solve(Eigen::MatrixXd(impl.free_by_constrained * xc));
-    if (impl.ldlt.info() != Eigen::Success || !xf.allFinite())
+  if (pre.free_by_constrained.rows() > 0) {
+    xf = pre.ldlt->solve(Eigen::MatrixXd(pre.free_by_constrained * xc));
+    if (pre.ldlt->info() != Eigen::Success || !xf.allFinite())
       throw SolverError("harmonic_solve: the solve failed (non-finite result)");
   }
   Eigen::MatrixXd out(pre.vertex_count(), k);
   for (Eigen::Index v = 0; v < out.rows(); ++v) {
-    const int s = impl.slot_of_node[static_cast<std::size_t>(impl.node_of_vertex[static_cast<std::size_t>(v)])];
+    const int s = pre.slot_of_node[static_cast<std::size_t>(pre.node_of_vertex[static_cast<std::size_t>(v)])];
     out.row(v) = s >= 0 ? xf.row(s) : xc.row(-1 - s);
   }
   return out;

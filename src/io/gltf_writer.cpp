@@ -19,8 +19,9 @@
 #include <tiny_gltf.h>
 
 #include "cgamesh/errors.hpp"
-#include "gltf_extras_reader.hpp"
 #include "cgamesh/io/atomic_file.hpp"
+#include "cgamesh/mesh/influences.hpp"
+#include "gltf_extras_reader.hpp"
 
 namespace cgamesh::io {
 namespace {
@@ -360,49 +361,26 @@ class Builder {
       if (!seen.insert(j).second) invalid(label + ": skin palette names joint " + std::to_string(j) + " twice");
     }
 
-    // JOINTS_0 and WEIGHTS_0: duplicates merged, rows renormalised, unused slots (0, 0).
+    // JOINTS_0 and WEIGHTS_0: duplicates merged, by decreasing weight, rows renormalised, unused
+    // slots (0, 0).
     std::vector<std::uint16_t> joints(static_cast<std::size_t>(4 * nv));
     std::vector<float> weights(static_cast<std::size_t>(4 * nv));
     Eigen::Index merged = 0;
     for (Eigen::Index v = 0; v < nv; ++v) {
-      std::array<int, 4> j{};
-      std::array<double, 4> w{};
+      std::array<mesh::Influence, 4> in;
       for (int k = 0; k < 4; ++k) {
-        j[k] = s.joints(v, k);
-        w[k] = s.weights(v, k);
-        if (!finite(w[k]) || w[k] < 0)
+        in[k] = {s.weights(v, k), s.joints(v, k)};
+        if (!finite(in[k].weight) || in[k].weight < 0)
           invalid(label + ": vertex " + std::to_string(v) + " has a negative or NaN skin weight");
-        if (static_cast<std::size_t>(j[k]) >= np)
-          invalid(label + ": vertex " + std::to_string(v) + " uses palette entry " + std::to_string(j[k]) + " of " +
-                  std::to_string(np));
+        if (static_cast<std::size_t>(in[k].joint) >= np)
+          invalid(label + ": vertex " + std::to_string(v) + " uses palette entry " + std::to_string(in[k].joint) +
+                  " of " + std::to_string(np));
       }
-      bool dup = false;
-      for (int k = 1; k < 4; ++k)
-        for (int l = 0; l < k && w[k] > 0; ++l)
-          if (w[l] > 0 && j[l] == j[k]) {
-            w[l] += w[k];
-            w[k] = 0;
-            dup = true;
-          }
-      merged += dup ? 1 : 0;
-      const double sum = w[0] + w[1] + w[2] + w[3];
-      if (!(sum > 0) || !finite(sum))
-        invalid(label + ": vertex " + std::to_string(v) + " has skin weights summing to 0");
-      std::array<float, 4> f{};
-      int largest = 0;
-      for (int k = 0; k < 4; ++k) {
-        f[k] = static_cast<float>(w[k] / sum);
-        if (f[k] > f[largest]) largest = k;
-      }
-      // Make the float sum 1 to within half an ulp: the largest weight takes the remainder.
-      double rest = 0;
-      for (int k = 0; k < 4; ++k)
-        if (k != largest) rest += f[k];
-      f[largest] = static_cast<float>(1.0 - rest);
-      for (int k = 0; k < 4; ++k) {
-        joints[4 * v + k] = f[k] > 0 ? static_cast<std::uint16_t>(j[k]) : 0;
-        weights[4 * v + k] = f[k] > 0 ? f[k] : 0.0f;
-      }
+      const mesh::TopInfluences top = mesh::top_influences(in);
+      if (top.kept == 0) invalid(label + ": vertex " + std::to_string(v) + " has skin weights summing to 0");
+      merged += top.merged ? 1 : 0;
+      std::copy(top.joints.begin(), top.joints.end(), joints.begin() + 4 * v);
+      std::copy(top.weights.begin(), top.weights.end(), weights.begin() + 4 * v);
     }
     if (merged > 0)
       warnings_.push_back(label + ": " + std::to_string(merged) +

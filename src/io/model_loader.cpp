@@ -19,6 +19,7 @@
 
 #include "cgamesh/anim/transform.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/mesh/influences.hpp"
 #include "gltf_extras_reader.hpp"
 
 namespace cgamesh::io {
@@ -102,7 +103,10 @@ class Loader {
 
   void add_skin(const aiMesh& in, mesh::Mesh& m, const std::vector<int>& remap) {
     const Eigen::Index nv = in.mNumVertices;
-    std::vector<std::vector<std::pair<float, int>>> influences(nv);
+    if (in.mNumBones > 65536)
+      throw FileError("mesh '" + m.name + "' is bound to " + std::to_string(in.mNumBones) +
+                      " bones; at most 65536 are supported");
+    std::vector<std::vector<mesh::Influence>> influences(nv);
     for (unsigned b = 0; b < in.mNumBones; ++b) {
       const aiBone& bone = *in.mBones[b];
       const auto it = by_name_.find(bone.mName.C_Str());
@@ -118,30 +122,23 @@ class Loader {
       m.skin.inverse_bind_versors.push_back(t.versor());
       for (unsigned w = 0; w < bone.mNumWeights; ++w) {
         const aiVertexWeight& vw = bone.mWeights[w];
-        if (vw.mVertexId < nv && vw.mWeight > 0) influences[vw.mVertexId].emplace_back(vw.mWeight, static_cast<int>(b));
+        if (vw.mVertexId < nv) influences[vw.mVertexId].push_back({vw.mWeight, static_cast<std::uint16_t>(b)});
       }
     }
     m.skin.joints.setZero(nv, 4);
     m.skin.weights.setZero(nv, 4);
     Eigen::Index truncated = 0, unweighted = 0;
     for (Eigen::Index i = 0; i < nv; ++i) {
-      auto& inf = influences[i];
-      model_.source_max_influences = std::max(model_.source_max_influences, static_cast<int>(inf.size()));
-      std::sort(inf.begin(), inf.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-      if (inf.size() > 4) {
-        inf.resize(4);
-        ++truncated;
-      }
-      float sum = 0;
-      for (const auto& [w, b] : inf) sum += w;
-      if (!(sum > 0)) {
-        inf.assign(1, {1.0f, 0});
-        sum = 1;
+      mesh::TopInfluences top = mesh::top_influences(influences[static_cast<std::size_t>(i)]);
+      model_.source_max_influences = std::max(model_.source_max_influences, top.distinct);
+      truncated += top.distinct > 4 ? 1 : 0;
+      if (top.kept == 0) {
+        top.weights[0] = 1;  // joint 0
         ++unweighted;
       }
-      for (std::size_t k = 0; k < inf.size(); ++k) {
-        m.skin.weights(i, static_cast<Eigen::Index>(k)) = inf[k].first / sum;
-        m.skin.joints(i, static_cast<Eigen::Index>(k)) = static_cast<std::uint16_t>(inf[k].second);
+      for (Eigen::Index k = 0; k < 4; ++k) {
+        m.skin.weights(i, k) = top.weights[static_cast<std::size_t>(k)];
+        m.skin.joints(i, k) = top.joints[static_cast<std::size_t>(k)];
       }
     }
     if (truncated > 0)

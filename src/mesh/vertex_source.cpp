@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/mesh/influences.hpp"
 
 namespace cgamesh::mesh {
 namespace {
@@ -36,36 +37,23 @@ void blend_row(const Matrix& src, const VertexSource& s, Matrix& dst, Eigen::Ind
 
 void blend_influences(const Skin& skin, const VertexSource& source, std::span<std::uint16_t, 4> joints,
                       std::span<float, 4> weights) noexcept {
-  std::array<std::pair<float, std::uint16_t>, 12> all{};
-  int n = 0;
+  std::array<Influence, 12> all{};
+  std::size_t n = 0;
   const auto gather = [&](std::uint8_t mask) {
     for (int s = 0; s < source.count(); ++s) {
       if ((mask & (1u << s)) == 0) continue;
-      for (int k = 0; k < 4; ++k) {
-        const float w = source.weight[s] * skin.weights(source.vertex[s], k);
-        if (!(w > 0)) continue;
-        const std::uint16_t j = skin.joints(source.vertex[s], k);
-        auto* it = std::find_if(all.begin(), all.begin() + n, [&](const auto& p) { return p.second == j; });
-        if (it != all.begin() + n) it->first += w;
-        else all[static_cast<std::size_t>(n++)] = {w, j};
-      }
+      for (int k = 0; k < 4; ++k) all[n++] = {source.weight[s] * skin.weights(source.vertex[s], k), skin.joints(source.vertex[s], k)};
     }
   };
   gather(source.influence_mask);
-  if (n == 0) gather(0b111);
-  // The 4 largest first (selection sort: n <= 12).
-  for (int k = 0; k < std::min(n, 4); ++k)
-    for (int m = k + 1; m < n; ++m)
-      if (all[static_cast<std::size_t>(m)].first > all[static_cast<std::size_t>(k)].first)
-        std::swap(all[static_cast<std::size_t>(k)], all[static_cast<std::size_t>(m)]);
-  n = std::min(n, 4);
-  float sum = 0;
-  for (int k = 0; k < n; ++k) sum += all[static_cast<std::size_t>(k)].first;
-  for (std::size_t k = 0; k < 4; ++k) {
-    const bool used = static_cast<int>(k) < n;
-    weights[k] = used ? all[k].first / sum : 0.0f;
-    joints[k] = used ? all[k].second : 0;
+  TopInfluences top = top_influences(std::span(all.data(), n));
+  if (top.kept == 0) {
+    n = 0;
+    gather(0b111);
+    top = top_influences(std::span(all.data(), n));
   }
+  std::copy(top.joints.begin(), top.joints.end(), joints.begin());
+  std::copy(top.weights.begin(), top.weights.end(), weights.begin());
 }
 
 namespace {

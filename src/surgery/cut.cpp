@@ -17,7 +17,7 @@
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/errors.hpp"
 
-#include "flat_map.hpp"
+#include "../flat_map.hpp"
 #include "polygon_triangulation.hpp"
 #include "surgery_common.hpp"
 
@@ -497,7 +497,7 @@ LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions&
                         (reached[0] ? "negative" : "positive") + " side there)");
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     if (edits[i].removed_faces.empty()) continue;
-    AppliedEdit applied = apply_edit_in_place(live, i, edits[i], options.rest);
+    AppliedEdit applied = live.apply(i, edits[i], options.rest);
     out.new_vertices += static_cast<int>(applied.change.origins.size());
     out.changes.push_back(std::move(applied.change));
     out.piece_of_new_face.push_back(std::move(pieces[i]));

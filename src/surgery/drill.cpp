@@ -127,7 +127,7 @@ LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector
   require_change(changed, out);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     if (edits[i].removed_faces.empty()) continue;
-    AppliedEdit applied = apply_edit_in_place(live, i, edits[i], options.rest);
+    AppliedEdit applied = live.apply(i, edits[i], options.rest);
     out.new_vertices += blended_count(applied.change.origins);
     if (model.meshes[i].face_count() == 0)
       out.warnings.push_back("mesh '" + model.meshes[i].name + "' is drilled away entirely");

@@ -17,6 +17,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "convex_triangulation.hpp"
+#include "polygon_triangulation.hpp"
 
 namespace cgamesh::surgery::detail {
 namespace {
@@ -196,7 +197,7 @@ void Driller::warn_if_coarse(const Pass& pass, const std::vector<Rim>& rims, con
 }
 
 /// Stitches each entry rim to the exit rim that follows it along the axis with a tube (see
-/// zipper), and walls a last entry rim wholly on the cylinder as a blind hole.
+/// zipper), and walls a last entry rim on the drill's boundary up to the tip as a blind hole.
 Walls Driller::wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name,
                     std::vector<std::string>& warnings) {
   int open = 0;
@@ -207,16 +208,16 @@ Walls Driller::wall(const Pass& pass, const std::vector<Rim>& rims, const std::s
     if (entry && i + 1 < loops.size() && loops[i + 1].winding < 0) {
       zipper(loops[i].points, loops[i + 1].points, walls.tube);
       ++i;
-    } else if (entry && i + 1 == loops.size() && on_cylinder_below_tip(loops[i])) {
-      blind(loops[i].points, walls);
     } else {
-      ++open;
+      const bool last = i + 1 == loops.size();
+      const bool walled = entry && last && on_boundary_to_tip(loops[i]) && blind(loops[i].points, walls);
+      open += walled ? 0 : 1;
     }
   }
   if (open > 0)
     warnings.push_back(name + ": " + std::to_string(open) +
                        " rim(s) of the hole have no partner across the material (the hole meets a mesh boundary, " +
-                       "an end disk cuts the surface, or the surfaces face alike); left open");
+                       "the base's disk cuts the surface, or the surfaces face alike); left open");
   return walls;
 }
 
@@ -677,10 +678,13 @@ Loop Driller::loop_of(const Pass& pass, const Rim& rim) const {
   return loop;
 }
 
-/// A rim wholly on the cylinder, below the tip: the wall of a blind hole can go down from it.
-bool Driller::on_cylinder_below_tip(const Loop& loop) const {
-  return std::all_of(loop.points.begin(), loop.points.end(),
-                     [&](int x) { return vertex(x).s == 0 && vertex(x).h < c_.length; });
+/// A rim on the drill's boundary up to the tip — on the cylinder below it, or on the tip's disk
+/// (where that disk cuts the surface): the wall of a blind hole can go down from it.
+bool Driller::on_boundary_to_tip(const Loop& loop) const {
+  return std::all_of(loop.points.begin(), loop.points.end(), [&](int x) {
+    const Vertex& v = vertex(x);
+    return (v.s == 0 && v.h < c_.length) || (v.h == c_.length && v.s <= 0);
+  });
 }
 
 /// Merges loop a (winding +) with loop b (winding −, walked backwards) by angle about the axis,
@@ -716,19 +720,49 @@ void Driller::zipper(const std::vector<int>& a, const std::vector<int>& b, std::
 
 /// The wall of a blind hole below the entry rim `a` (winding +, in its own direction): a tube
 /// straight down the cylinder to the tip's disk, each triangle pair holding the reverse of one
-/// rim edge, and the disk as a fan about the tip.
-void Driller::blind(const std::vector<int>& a, Walls& walls) {
+/// rim edge, and the disk. Rim points on the tip's disk are their own feet; a rim edge between
+/// two of them borders the disk directly. A disk bounded by the circle alone is a fan about the
+/// tip; one that the surface cuts (part of its boundary runs inside the circle) is triangulated
+/// as a polygon in the disk's plane.
+bool Driller::blind(const std::vector<int>& a, Walls& walls) {
   const Eigen::Vector3d tip = c_.base + c_.length * c_.axis;
   const std::size_t n = a.size();
   std::vector<int> q(n);
-  for (std::size_t i = 0; i < n; ++i) q[i] = add_off_surface(a[i], tip + c_.radius * projected(a[i]).normalized());
-  const int centre = add_off_surface(a[0], tip);
+  bool cut_disk = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vertex& v = vertex(a[i]);
+    cut_disk = cut_disk || v.s < 0;
+    q[i] = v.h == c_.length ? a[i] : add_off_surface(a[i], tip + c_.radius * projected(a[i]).normalized());
+  }
+  std::vector<Triangle> bottom;
+  if (!cut_disk) {
+    const int centre = add_off_surface(a[0], tip);
+    for (std::size_t i = 0; i < n; ++i) bottom.push_back({q[(i + 1) % n], q[i], centre});
+  } else {
+    // In (e1, e2), with e1 × e2 the axis, the triangles come counter-clockwise: facing up the
+    // axis. The disk faces back up the hole, so each is flipped.
+    std::vector<Eigen::Vector2d> points(n);
+    std::vector<std::array<int, 2>> edges(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d d = projected(q[i]);
+      points[i] = {d.dot(c_.e1), d.dot(c_.e2)};
+      edges[i] = {static_cast<int>(i), static_cast<int>((i + 1) % n)};
+    }
+    try {
+      for (const auto& t : triangulate_loops(points, edges))
+        bottom.push_back(
+            {q[static_cast<std::size_t>(t[0])], q[static_cast<std::size_t>(t[2])], q[static_cast<std::size_t>(t[1])]});
+    } catch (const TopologyError&) {
+      return false;  // the rim crosses itself seen along the axis
+    }
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t j = (i + 1) % n;
-    walls.tube.push_back({a[j], a[i], q[i]});
-    walls.tube.push_back({a[j], q[i], q[j]});
-    walls.bottom.push_back({q[j], q[i], centre});
+    if (q[i] != a[i]) walls.tube.push_back({a[j], a[i], q[i]});
+    if (q[j] != a[j]) walls.tube.push_back({a[j], q[i], q[j]});
   }
+  walls.bottom.insert(walls.bottom.end(), bottom.begin(), bottom.end());
+  return true;
 }
 
 /// A new point of a blind hole's wall at `at`, off the input surface, with the influences of the
@@ -805,17 +839,20 @@ void Driller::emit_walls(const Walls& walls, LocalEdit& edit) const {
           (vertex(t[1]).placed - vertex(t[0]).placed).cross(vertex(t[2]).placed - vertex(t[0]).placed);
       for (const int x : t) normal[static_cast<std::size_t>(x)] += n;
     }
+    // The copies in the order of the region's vertices, not of the triangles: a disk's
+    // triangulation may differ between predicates (its points are near cocircular).
     std::vector<int> copy(vertices_.size(), -1);
-    const auto copy_of = [&](int x) {
-      int& id = copy[static_cast<std::size_t>(x)];
-      if (id < 0) {
-        const Vertex& v = vertex(x);
-        id = edit.add_vertex(v.old >= 0 ? VertexSource::copy(v.old) : v.source, v.placed, nv_, 0,
-                             normal[static_cast<std::size_t>(x)].normalized(), v.off_surface);
-      }
-      return id;
-    };
-    for (const Triangle& t : *surface) edit.new_faces.push_back({copy_of(t[0]), copy_of(t[1]), copy_of(t[2])});
+    for (const Triangle& t : *surface)
+      for (const int x : t) copy[static_cast<std::size_t>(x)] = 0;
+    for (std::size_t x = 0; x < copy.size(); ++x) {
+      if (copy[x] < 0) continue;
+      const Vertex& v = vertices_[x];
+      copy[x] = edit.add_vertex(v.old >= 0 ? VertexSource::copy(v.old) : v.source, v.placed, nv_, 0,
+                                normal[x].normalized(), v.off_surface);
+    }
+    for (const Triangle& t : *surface)
+      edit.new_faces.push_back({copy[static_cast<std::size_t>(t[0])], copy[static_cast<std::size_t>(t[1])],
+                                copy[static_cast<std::size_t>(t[2])]});
   }
 }
 

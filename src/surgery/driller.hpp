@@ -19,7 +19,7 @@
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
-#include "flat_map.hpp"
+#include "../flat_map.hpp"
 #include "surgery_common.hpp"
 
 namespace cgamesh::surgery::detail {
@@ -232,9 +232,9 @@ class Driller {
 
   [[nodiscard]] std::vector<Loop> closed_loops(const Pass& pass, const std::vector<Rim>& rims, int& open) const;
   [[nodiscard]] Loop loop_of(const Pass& pass, const Rim& rim) const;
-  [[nodiscard]] bool on_cylinder_below_tip(const Loop& loop) const;
+  [[nodiscard]] bool on_boundary_to_tip(const Loop& loop) const;
   void zipper(const std::vector<int>& a, const std::vector<int>& b, std::vector<Triangle>& tube) const;
-  void blind(const std::vector<int>& a, Walls& walls);
+  bool blind(const std::vector<int>& a, Walls& walls);
   int add_off_surface(int above, const Eigen::Vector3d& at);
   [[nodiscard]] double angle(int x) const;
 

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/mesh/adjacency.hpp"
 
 #include "surgery_common.hpp"
 
@@ -241,11 +243,13 @@ SlotPlan plan_slots_by_parent(const std::vector<int>& removed, const std::vector
 
 }  // namespace
 
-AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit, RestPosition rest,
-                                const std::function<void(const AppliedEdit&)>& adjust) {
-  mesh::Mesh& m = detail::LiveAccess::mesh(live, i);
-  RowMatrixXf<3>& placed = detail::LiveAccess::placed(live, i);
-  MeshIndex& index = detail::LiveAccess::index(live, i);
+AppliedEdit LiveModel::apply(std::size_t i, const LocalEdit& edit, RestPosition rest, const Adjust& adjust) {
+  if (i >= model_.meshes.size())
+    throw InvalidInputError("surgery: mesh " + std::to_string(i) + " of a model with " +
+                            std::to_string(model_.meshes.size()) + " meshes");
+  mesh::Mesh& m = model_.meshes[i];
+  RowMatrixXf<3>& placed = placement_.positions[i];
+  MeshIndex& index = index_.meshes[i];
   const std::vector<int> removed = checked_removed_faces(m, edit);
   // Removed faces by id (a hash, not a binary search: its branches mispredict).
   FlatMap<int> rank;
@@ -284,9 +288,9 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
   off_surface.reserve(out.change.origins.size());
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
     if (out.fresh[k] >= 0) off_surface.push_back(edit.new_off_surface[k]);
-  solve_rest_positions(m, live.placement().palettes[i], placed, out.change.origins, nv, rest, off_surface);
+  solve_rest_positions(m, placement_.palettes[i], placed, out.change.origins, nv, rest, off_surface);
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
-    if (out.fresh[k] >= 0) set_placed_normal(m, live.placement().palettes[i], out.fresh[k], edit.new_normal[k]);
+    if (out.fresh[k] >= 0) set_placed_normal(m, placement_.palettes[i], out.fresh[k], edit.new_normal[k]);
 
   // Adjacency entries of untouched faces that point into the removed ones: found again below.
   std::vector<std::pair<int, int>> open_entries;
@@ -333,47 +337,18 @@ AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit&
 
   // The vertices are final once adjusted: then the welds, the BVH boxes, the adjacency.
   if (adjust) {
-    adjust(out);
+    adjust(out, m, placed);
     for (const int f : ids) index.bvh.replace(f, placed_corners(m, placed, f));
   }
   weld_new_vertices(m, out.change.origins, fresh_side, nv, index.weld);
 
-  // Adjacency of the new faces and of the open entries: twins by welded edge. Grouped by the
-  // undirected edge, a manifold edge is a group of two, one in each direction.
-  struct Edge {
-    std::uint64_t key;  ///< undirected welded edge
-    int slot;           ///< 3 face + k
-    bool forward;       ///< welded ids increase along the face's edge
-  };
-  std::vector<Edge> edges;
+  // Adjacency of the new faces and of the open entries: twins by welded edge.
+  std::vector<std::array<int, 2>> edges;
   edges.reserve(3 * ids.size() + open_entries.size());
-  const auto add_edge = [&](int f, int k) {
-    const int a = index.weld[static_cast<std::size_t>(m.faces(f, k))];
-    const int b = index.weld[static_cast<std::size_t>(m.faces(f, (k + 1) % 3))];
-    if (a != b)
-      edges.push_back({edge_key(a, b), 3 * f + k, a < b});
-    else
-      index.neighbor[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)] = -1;
-  };
   for (const int f : ids)
-    for (int k = 0; k < 3; ++k) add_edge(f, k);
-  for (const auto& [g, j] : open_entries) add_edge(now(g), j);
-  // Per edge: the first edge of its group; per first edge: the group's size and second edge.
-  FlatMap<int> first_of;
-  first_of.reserve(edges.size());
-  std::vector<int> first(edges.size()), size(edges.size(), 0), second(edges.size(), -1);
-  for (std::size_t e = 0; e < edges.size(); ++e) {
-    const auto g = static_cast<std::size_t>(*first_of.try_emplace(edges[e].key, static_cast<int>(e)).first);
-    first[e] = static_cast<int>(g);
-    if (size[g]++ == 1) second[g] = static_cast<int>(e);
-  }
-  for (std::size_t e = 0; e < edges.size(); ++e) {
-    const auto g = static_cast<std::size_t>(first[e]);
-    const auto twin = static_cast<std::size_t>(e == g ? second[g] : static_cast<int>(g));
-    const bool manifold = size[g] == 2 && edges[e].forward != edges[twin].forward;
-    index.neighbor[static_cast<std::size_t>(edges[e].slot / 3)][static_cast<std::size_t>(edges[e].slot % 3)] =
-        manifold ? edges[twin].slot / 3 : -1;
-  }
+    for (int k = 0; k < 3; ++k) edges.push_back({f, k});
+  for (const auto& [g, j] : open_entries) edges.push_back({now(g), j});
+  mesh::link_twins(m.faces, index.weld, edges, index.neighbor);
   return out;
 }
 

@@ -46,38 +46,6 @@ double bounding_diagonal(const mesh::RowMatrixXf<3>& points) {
   return static_cast<double>(std::sqrt((extent[0] * extent[0] + extent[1] * extent[1]) + extent[2] * extent[2]));
 }
 
-std::size_t PositionHash::operator()(const std::array<float, 3>& p) const noexcept {
-  std::array<std::uint32_t, 3> bits;
-  std::memcpy(bits.data(), p.data(), sizeof bits);
-  return (static_cast<std::size_t>(bits[0]) * 73856093u) ^ (static_cast<std::size_t>(bits[1]) * 19349663u) ^
-         (static_cast<std::size_t>(bits[2]) * 83492791u);
-}
-
-int PositionWelder::operator()(int v) { return *first_.try_emplace(position_key(positions_, v), v).first; }
-
-UnionFind::UnionFind(std::size_t n) : parent_(n) {
-  for (std::size_t a = 0; a < n; ++a) parent_[a] = static_cast<int>(a);
-}
-
-int UnionFind::find(int a) noexcept {
-  while (parent_[static_cast<std::size_t>(a)] != a)
-    a = parent_[static_cast<std::size_t>(a)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(a)])];
-  return a;
-}
-
-void UnionFind::unite(int a, int b) noexcept {
-  a = find(a);
-  b = find(b);
-  if (a != b) parent_[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-}
-
-std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions) {
-  PositionWelder weld(positions);
-  std::vector<int> out(static_cast<std::size_t>(positions.rows()));
-  for (Eigen::Index i = 0; i < positions.rows(); ++i) out[static_cast<std::size_t>(i)] = weld(static_cast<int>(i));
-  return out;
-}
-
 Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& n) {
   const Eigen::Vector3d axis = std::abs(n.x()) < 0.6 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   return n.cross(axis).normalized();

@@ -16,12 +16,16 @@
 #include "cgamesh/cga/multivector.hpp"
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/mesh/mesh.hpp"
+#include "cgamesh/mesh/union_find.hpp"
+#include "cgamesh/mesh/weld.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
 #include "cgamesh/surgery/live_model.hpp"
+#include "cgamesh/surgery/local_edit.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
-#include "flat_map.hpp"
+#include "../flat_map.hpp"
+#include "../mesh/position_welder.hpp"
 
 namespace cgamesh::surgery {
 
@@ -46,80 +50,14 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// Length of the bounding-box diagonal of the rows of `points` (0 when empty).
 [[nodiscard]] double bounding_diagonal(const mesh::RowMatrixXf<3>& points);
 
-/// Row v of `positions` as a key of its exact position: +0.0f folds -0.0f into 0.0f, whose bits
-/// differ.
-[[nodiscard]] inline std::array<float, 3> position_key(const mesh::RowMatrixXf<3>& positions, Eigen::Index v) {
-  return {positions(v, 0) + 0.0f, positions(v, 1) + 0.0f, positions(v, 2) + 0.0f};
-}
-
-/// Hash of a position by its bits.
-struct PositionHash {
-  std::size_t operator()(const std::array<float, 3>& p) const noexcept;
-};
-
-/// Welds vertices by exact position, on demand: only the vertices asked about are hashed, so a
-/// local operation on a large mesh stays local. Seam copies get the same id (the first of them
-/// asked about).
-class PositionWelder {
- public:
-  explicit PositionWelder(const mesh::RowMatrixXf<3>& positions) : positions_(positions) {}
-  [[nodiscard]] int operator()(int v);
-
- private:
-  const mesh::RowMatrixXf<3>& positions_;
-  FlatMap<int, std::array<float, 3>, PositionHash> first_;
-};
-
-/// Disjoint sets of 0 … n−1 (union by index, path halving).
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n);
-  [[nodiscard]] int find(int a) noexcept;
-  /// Joins the sets of a and b.
-  void unite(int a, int b) noexcept;
-
- private:
-  std::vector<int> parent_;
-};
-
-/// Per vertex, the welded id of PositionWelder for the whole mesh.
-[[nodiscard]] std::vector<int> weld_by_position(const mesh::RowMatrixXf<3>& positions);
+using mesh::position_key;
+using mesh::PositionHash;
+using mesh::PositionWelder;
+using mesh::UnionFind;
+using mesh::weld_by_position;
 
 /// A unit vector perpendicular to the unit vector n.
 [[nodiscard]] Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& n);
-
-/// A local edit of one mesh: some old faces replaced by new faces over extended vertex ids
-/// (old vertices 0 … #V−1, then the new vertices #V + i).
-struct LocalEdit {
-  std::vector<mesh::VertexSource> new_vertices;  ///< where each new vertex comes from (old mesh)
-  std::vector<Eigen::Vector3d> new_placed;       ///< placed position of each new vertex
-  /// Per new vertex: the side of a separation (cut or tear) it is a copy for, ±1, or 0. Copies
-  /// for different sides never weld in the index, though they may share a rest position.
-  std::vector<signed char> new_side;
-  /// Per new vertex: its placed unit normal where it has one of its own (a hole's wall), else
-  /// zero (blended from its origin like its other attributes).
-  std::vector<Eigen::Vector3d> new_normal;
-  /// Per new vertex: whether it lies off the input surface (a blind hole's wall), so that its
-  /// rest position can only come from its placed one (always solved, whatever RestPosition).
-  std::vector<char> new_off_surface;
-  std::vector<int> removed_faces;             ///< old faces dropped (each once)
-  std::vector<std::array<int, 3>> new_faces;  ///< over extended ids
-  /// Per new face: the removed face it lies in, when every new face has one (it may fill that
-  /// face's slot in place); empty otherwise.
-  std::vector<int> new_face_parent;
-
-  /// Adds a new vertex; returns its extended id.
-  int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count,
-                 signed char side = 0, const Eigen::Vector3d& normal = Eigen::Vector3d::Zero(),
-                 bool off_surface = false) {
-    new_vertices.push_back(source);
-    new_placed.push_back(placed);
-    new_side.push_back(side);
-    new_normal.push_back(normal);
-    new_off_surface.push_back(off_surface ? 1 : 0);
-    return old_vertex_count + static_cast<int>(new_vertices.size()) - 1;
-  }
-};
 
 /// The result of applying a LocalEdit.
 struct EditedMesh {
@@ -140,40 +78,6 @@ struct EditedMesh {
 /// New vertices get rest positions by `rest` against `palette` (see solve_rest_positions).
 [[nodiscard]] EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
                                     const anim::SkinningPalette& palette, const LocalEdit& edit, RestPosition rest);
-
-namespace detail {
-
-/// The parts of a LiveModel the operations in place edit.
-struct LiveAccess {
-  static mesh::Mesh& mesh(LiveModel& live, std::size_t i) { return live.model_.meshes[i]; }
-  static mesh::RowMatrixXf<3>& placed(LiveModel& live, std::size_t i) { return live.placement_.positions[i]; }
-  static MeshIndex& index(LiveModel& live, std::size_t i) { return live.index_.meshes[i]; }
-};
-
-}  // namespace detail
-
-/// The result of applying a LocalEdit in place.
-struct AppliedEdit {
-  MeshChange change;
-  int old_vertex_count = 0;
-  std::vector<int> fresh;  ///< per new vertex of the edit: its vertex id, or −1 when no face uses it
-
-  /// The vertex of an extended id (old ids stay).
-  [[nodiscard]] int vertex_of(int x) const noexcept {
-    return x < old_vertex_count ? x : fresh[static_cast<std::size_t>(x - old_vertex_count)];
-  }
-};
-
-/// Applies `edit` to mesh `i` of `live` where it is: new faces fill the slots of removed faces
-/// (the last faces fill any slots left over), used new vertices are appended, and the mesh's
-/// SurfaceIndex follows (welds, adjacency, BVH) in O(edit): as a fresh build would give it,
-/// except that copies for different sides of a separation stay apart.
-/// `adjust`, when given, may move the vertices of the new faces (a tear's opening) once they are
-/// in the mesh, before the index is brought up to date.
-/// @throws InvalidInputError for an id out of range or a new face's parent that is not removed,
-///         before anything is changed.
-[[nodiscard]] AppliedEdit apply_edit_in_place(LiveModel& live, std::size_t i, const LocalEdit& edit, RestPosition rest,
-                                              const std::function<void(const AppliedEdit&)>& adjust = {});
 
 /// Rest positions of the blended vertices of `m` (rows first + k whose origins[k] is a point on
 /// an edge or a face; copies of old vertices keep theirs). `exact`: the solution x of

@@ -101,22 +101,22 @@ ModelTear tear(const anim::RiggedModel& model, const Placement& placement, const
 }
 
 LiveTear tear(LiveModel& live, std::span<const Scalpel> scalpel, const TearOptions& options) {
-  return trace_tear(
-      live.model(), live.placement(), live.index(), scalpel, options,
-      [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
-        LiveTear out;
-        record(out, live.model(), path, tearer.prepare(path));
-        AppliedEdit applied = apply_edit_in_place(live, tm, tearer.edit(), options.rest, [&](const AppliedEdit& a) {
-          tearer.move_apart(path, detail::LiveAccess::mesh(live, tm), detail::LiveAccess::placed(live, tm),
-                            [&](int x) { return a.vertex_of(x); });
-        });
-        tearer.for_each_copy([&](int x) { return applied.vertex_of(x); },
-                             [&](int v, signed char side) { out.sides.emplace_back(v, side); });
-        out.new_vertices = static_cast<int>(applied.change.origins.size());
-        out.faces_out = face_total(live.model());
-        out.change = std::move(applied.change);
-        return out;
-      });
+  return trace_tear(live.model(), live.placement(), live.index(), scalpel, options,
+                    [&](Tearer& tearer, std::size_t tm, const std::vector<PathPoint>& path) {
+                      LiveTear out;
+                      record(out, live.model(), path, tearer.prepare(path));
+                      AppliedEdit applied =
+                          live.apply(tm, tearer.edit(), options.rest,
+                                     [&](const AppliedEdit& a, mesh::Mesh& m, mesh::RowMatrixXf<3>& placed) {
+                                       tearer.move_apart(path, m, placed, [&](int x) { return a.vertex_of(x); });
+                                     });
+                      tearer.for_each_copy([&](int x) { return applied.vertex_of(x); },
+                                           [&](int v, signed char side) { out.sides.emplace_back(v, side); });
+                      out.new_vertices = static_cast<int>(applied.change.origins.size());
+                      out.faces_out = face_total(live.model());
+                      out.change = std::move(applied.change);
+                      return out;
+                    });
 }
 
 ModelTear tear(const anim::RiggedModel& model, const Placement& placement, std::span<const Scalpel> scalpel,

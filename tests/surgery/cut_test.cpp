@@ -222,7 +222,7 @@ void check_cut(const Subject& s, const Eigen::Vector3d& n, double d, const CutOp
       for (Eigen::Index v = 0; v < m.vertex_count(); ++v) ASSERT_GE(sign * dist(placed, v), -tol) << what << " v" << v;
       const int src = c.source_mesh[static_cast<std::size_t>(p)][k];
       const mesh::Mesh& old = s.model.meshes[static_cast<std::size_t>(src)];
-      const auto old_weld = weld(old.positions);
+      const auto old_weld = weld_by_position(old.positions);
       const auto w = weld_origins(c.origins[static_cast<std::size_t>(p)][k], old_weld);
       const auto boundary = boundary_edges(m.faces, w);
       if (!opt.cap) {

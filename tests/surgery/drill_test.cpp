@@ -3,6 +3,8 @@
 // with every invariant of a drill checked on every result.
 #include "cgamesh/surgery/drill.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -65,8 +67,8 @@ bool on_drill_boundary(const V3& x, const V3& tip, const V3& base, double r, dou
 
 /// Vertex ids of a drilled mesh welded through their origins (weld_points).
 std::vector<int> weld_points(const ModelDrill& d, std::size_t k, const anim::RiggedModel& before) {
-  return cgamesh_test::weld_points(d.origins[k],
-                                   weld(before.meshes[static_cast<std::size_t>(d.source_mesh[k])].positions));
+  return cgamesh_test::weld_points(
+      d.origins[k], weld_by_position(before.meshes[static_cast<std::size_t>(d.source_mesh[k])].positions));
 }
 
 /// The boundary edges of a drilled mesh (welded through origins) with both ends on the
@@ -194,10 +196,59 @@ TEST(Drill, BoxDrilledThroughWithAWallIsClosedAndWithoutItHasTwoRims) {
   EXPECT_TRUE(blind.warnings.empty()) << blind.warnings.front();
   const mesh::Mesh& bm = blind.model.meshes[0];
   expect_sane_mesh(bm, "box");
-  EXPECT_TRUE(closed_and_oriented(bm.faces, weld(blind.placed[0])));
+  EXPECT_TRUE(closed_and_oriented(bm.faces, weld_by_position(blind.placed[0])));
   const double bv = volume(bm.faces, blind.placed[0]), hole = std::numbers::pi * r * r * 0.5;
   EXPECT_LT(bv, 1 - 0.8 * hole);
   EXPECT_GT(bv, 1 - hole);
+}
+
+// A slanted blind hole whose tip's disk cuts the surface it enters: the rim runs on the cylinder
+// and, across the entry face, on the tip's disk. With a wall, the tube goes down from the
+// cylinder part, the disk is closed between the tube and the surface, and the box stays closed.
+TEST(Drill, BlindHoleWhoseTipDiskCutsTheEntryFaceIsClosed) {
+  const anim::RiggedModel model = static_model(fine_box());
+  const auto placement = rest_placement(model);
+  const V3 axis = V3(0.6, 0, 0.8);
+  const V3 tip(0.5, 0.5, 0.08), base = tip - 0.8 * axis;
+  const double r = 0.3, length = 0.8;
+  DrillOptions wall;
+  wall.wall = true;
+  const ModelDrill blind = surgery::drill(model, placement, tip, base, r, wall);
+  EXPECT_EQ(blind.rims, 1);
+  EXPECT_TRUE(blind.warnings.empty()) << blind.warnings.front();
+  const mesh::Mesh& m = blind.model.meshes[0];
+  expect_sane_mesh(m, "box");
+  ASSERT_TRUE(closed_and_oriented(m.faces, weld_by_position(blind.placed[0])));
+  // Some of the disk's triangles border the entry face directly; all face back up the hole.
+  int disk = 0;
+  for (Eigen::Index f = m.face_count() - blind.wall_triangles; f < m.face_count(); ++f) {
+    std::array<V3, 3> c;
+    bool at_tip = true;
+    for (int k = 0; k < 3; ++k) {
+      c[static_cast<std::size_t>(k)] = row(blind.placed[0], m.faces(f, k));
+      at_tip = at_tip && std::abs(axis.dot(c[static_cast<std::size_t>(k)] - base) - length) < 1e-6;
+    }
+    if (!at_tip) continue;
+    ++disk;
+    EXPECT_LT((c[1] - c[0]).cross(c[2] - c[0]).normalized().dot(axis), -0.999);
+  }
+  EXPECT_GT(disk, 0);
+  // The volume taken: the part of the finite cylinder above the entry face z = 0, integrated
+  // over the disk (the mesh's rim is an inscribed polygon, so a little less is taken).
+  const V3 e1 = V3(0, 1, 0), e2 = axis.cross(e1);
+  const int n = 400;
+  double taken = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double u = r * (2 * (i + 0.5) / n - 1), v = r * (2 * (j + 0.5) / n - 1);
+      if (u * u + v * v > r * r) continue;
+      const V3 foot = base + u * e1 + v * e2;  // z(h) = foot.z + 0.8 h
+      const double enter = std::clamp(-foot.z() / axis.z(), 0.0, length);
+      taken += (length - enter) * (2 * r / n) * (2 * r / n);
+    }
+  const double kept = volume(m.faces, blind.placed[0]);
+  EXPECT_GT(kept, 1 - taken);
+  EXPECT_LT(kept, 1 - 0.9 * taken);
 }
 
 // The drill is finite: between base and tip only. Of two parallel layers it holes the one it
@@ -418,7 +469,7 @@ void check_drill(const Subject& s, const surgery::SurfaceIndex& index, const V3&
     faces_out += static_cast<int>(m.face_count());
     expect_sane_mesh(m, what);
     ASSERT_EQ(placed.rows(), m.vertex_count());
-    const auto old_weld = weld(old.positions);
+    const auto old_weld = weld_by_position(old.positions);
     const auto w = weld_points(d, k, s.model);
     const std::set<int> gone = must_go(old, s.placement.positions[src], old_weld, tip, base, r, tol);
     std::set<int> kept;

@@ -18,6 +18,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/mesh/weld.hpp"
 
 namespace cgamesh_test {
 
@@ -31,15 +32,7 @@ inline constexpr int kCaseScale = 10;
 using Faces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using Points = cgamesh::mesh::RowMatrixXf<3>;
 
-/// Vertex ids welded by exact position (seam copies share one).
-inline std::vector<int> weld(const Points& p) {
-  std::map<std::array<float, 3>, int> first;
-  std::vector<int> out(static_cast<std::size_t>(p.rows()));
-  for (Eigen::Index i = 0; i < p.rows(); ++i)
-    out[static_cast<std::size_t>(i)] =
-        first.try_emplace({p(i, 0) + 0.0f, p(i, 1) + 0.0f, p(i, 2) + 0.0f}, static_cast<int>(i)).first->second;
-  return out;
-}
+using cgamesh::mesh::weld_by_position;
 
 /// Vertex ids of a surgery result welded through their origins: vertices made from the same
 /// welded old vertices (seam copies, cap copies, the two sides of a crossing) share one id.
@@ -108,7 +101,7 @@ inline bool closed_and_oriented(const Faces& f, const std::vector<int>& w) {
   return true;
 }
 
-inline bool closed_and_oriented(const Faces& f, const Points& p) { return closed_and_oriented(f, weld(p)); }
+inline bool closed_and_oriented(const Faces& f, const Points& p) { return closed_and_oriented(f, weld_by_position(p)); }
 
 /// Boundary edges form closed loops: at every vertex as many leave as arrive.
 inline bool boundary_is_loops(const std::vector<std::pair<int, int>>& edges) {

@@ -31,7 +31,7 @@ Scalpel blade_at(double x, double y) { return {{x, y, 1.0}, {x, y, -1.0}}; }
 /// Vertex ids of a torn mesh welded through their origins, so seam copies count as one, while
 /// the copies on the two sides of the tear stay two.
 std::vector<int> weld_torn(const mesh::Mesh& old, const ModelTear& t) {
-  const auto w = weld_points(t.origins, weld(old.positions));
+  const auto w = weld_points(t.origins, weld_by_position(old.positions));
   std::map<std::pair<int, int>, int> first;
   std::vector<int> out(w.size());
   for (std::size_t v = 0; v < w.size(); ++v)
@@ -41,7 +41,7 @@ std::vector<int> weld_torn(const mesh::Mesh& old, const ModelTear& t) {
 
 /// Boundary edges of the result that were not boundary edges of the input.
 std::vector<std::pair<int, int>> new_boundary(const mesh::Mesh& old, const ModelTear& t) {
-  const auto old_weld = weld(old.positions);
+  const auto old_weld = weld_by_position(old.positions);
   const auto w = weld_torn(old, t);
   std::set<std::pair<int, int>> before;
   for (const auto& e : boundary_edges(old.faces, old_weld)) before.insert(e);
@@ -157,7 +157,7 @@ TEST(Tear, ThroughACubeEdgeAndAroundACorner) {
   const auto boundary = new_boundary(model.meshes[0], t);
   EXPECT_TRUE(boundary_is_loops(boundary));
   EXPECT_FALSE(closed_and_oriented(m.faces, weld_torn(model.meshes[0], t)));
-  EXPECT_TRUE(closed_and_oriented(m.faces, weld_origins(t.origins, weld(model.meshes[0].positions))))
+  EXPECT_TRUE(closed_and_oriented(m.faces, weld_origins(t.origins, weld_by_position(model.meshes[0].positions))))
       << "closed again when the two sides are welded back together";
 }
 

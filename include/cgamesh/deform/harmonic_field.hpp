@@ -16,8 +16,11 @@
 
 #include <memory>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include "cgamesh/mesh/mesh.hpp"
 
@@ -29,23 +32,36 @@ struct HarmonicOptions {
   LaplacianWeights weights = LaplacianWeights::mean_value;
 };
 
-/// The factorised system of one mesh and one constrained vertex set (move-only).
-class HarmonicPrecomputation {
- public:
-  struct Impl;
-  explicit HarmonicPrecomputation(std::unique_ptr<Impl> impl);
-  HarmonicPrecomputation(HarmonicPrecomputation&&) noexcept;
-  HarmonicPrecomputation& operator=(HarmonicPrecomputation&&) noexcept;
-  ~HarmonicPrecomputation();
+/// Symmetric edge weights of the non-degenerate triangles of `mesh`, over welded nodes: the
+/// off-diagonal of −L (L = D − W, D the row sums), eq. (14).
+/// @param[in] mesh        #V rest positions and #F faces
+/// @param[in] node        #V node of each vertex (mesh::weld_by_position numbered by
+///                        mesh::number_classes), each in [0, node_count)
+/// @param[in] node_count  #N
+/// @return #N×#N symmetric W (w_ij = w_ji ≥ 0 for mean-value weights)
+/// @throws InvalidInputError for a face vertex outside [0, #V).
+[[nodiscard]] Eigen::SparseMatrix<double> laplacian_edge_weights(const mesh::Mesh& mesh, std::span<const int> node,
+                                                                 int node_count, LaplacianWeights weights);
 
-  [[nodiscard]] Eigen::Index vertex_count() const noexcept;       ///< #V of the mesh
-  [[nodiscard]] Eigen::Index constrained_count() const noexcept;  ///< #C, rows of the boundary values
-  [[nodiscard]] const Impl& impl() const noexcept { return *impl_; }
+/// The factorised system of one mesh and one constrained vertex set (libigl's
+/// min_quad_with_fixed_data): the free rows solve L_ff x_f = W_fc x_c. Move-only.
+struct HarmonicPrecomputation {
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+  std::vector<int> node_of_vertex;  ///< #V welded node of each vertex
+  std::vector<int> slot_of_node;    ///< #N free index (≥ 0), or −1 − the constrained node's index
+  std::vector<int> constrained;     ///< #C constrained vertex indices as given
+  int constrained_nodes = 0;        ///< distinct constrained nodes
+  SparseMatrix free_by_constrained;  ///< W_fc (free × constrained nodes)
+  /// L_ff factorised; null when every node is constrained. (Eigen's solvers cannot be moved.)
+  std::unique_ptr<Eigen::SimplicialLDLT<SparseMatrix>> ldlt;
 
- private:
-  std::unique_ptr<Impl> impl_;
+  [[nodiscard]] Eigen::Index vertex_count() const noexcept {  ///< #V of the mesh
+    return static_cast<Eigen::Index>(node_of_vertex.size());
+  }
+  [[nodiscard]] Eigen::Index constrained_count() const noexcept {  ///< #C, rows of the boundary values
+    return static_cast<Eigen::Index>(constrained.size());
+  }
 };
-
 /// Builds the Laplacian of `mesh` and factorises its free block (eq. 14).
 /// @param[in] mesh         #V rest positions and #F faces
 /// @param[in] constrained  #C vertex indices with Dirichlet values (welded copies of a

@@ -4,19 +4,18 @@
 // costs, not what copying a million-face mesh costs (as a VR-surgery frame needs).
 
 #include <array>
+#include <cstddef>
+#include <functional>
 #include <utility>
 #include <vector>
 
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/surgery/local_edit.hpp"
 #include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 
 namespace cgamesh::surgery {
-
-namespace detail {
-struct LiveAccess;  // the operations in place (src/surgery)
-}  // namespace detail
 
 /// What one operation in place changed in one mesh: the map from the edited mesh to the mesh
 /// before (geometry-central style), without a copy of either.
@@ -31,6 +30,18 @@ struct MeshChange {
   std::vector<int> new_faces;               ///< ids of the new faces in the edited mesh
   std::vector<std::array<int, 2>> moved_faces;  ///< (id before, id after) of untouched faces moved
   int removed_faces = 0;                    ///< faces of the mesh before that are gone
+};
+
+/// The result of LiveModel::apply: what changed, and where the edit's new vertices went.
+struct AppliedEdit {
+  MeshChange change;
+  int old_vertex_count = 0;
+  std::vector<int> fresh;  ///< per new vertex of the edit: its vertex id, or −1 when no face uses it
+
+  /// The vertex of an extended id (old ids stay).
+  [[nodiscard]] int vertex_of(int x) const noexcept {
+    return x < old_vertex_count ? x : fresh[static_cast<std::size_t>(x - old_vertex_count)];
+  }
 };
 
 /// A rigged model placed in one pose, with its SurfaceIndex, that surgery edits in place (the
@@ -60,8 +71,24 @@ class LiveModel {
   /// Gives the model up (e.g. to write it), leaving this LiveModel empty.
   [[nodiscard]] anim::RiggedModel release() && noexcept { return std::move(model_); }
 
+  /// May move the vertices of an edit's new faces once they are in the mesh (a tear's opening),
+  /// before the index is brought up to date.
+  using Adjust = std::function<void(const AppliedEdit& applied, mesh::Mesh& mesh, mesh::RowMatrixXf<3>& placed)>;
+
+  /// Applies `edit` to mesh `i` where it is, the building block of the operations in place: new
+  /// faces fill the slots of removed faces (the last faces fill any slots left over), used new
+  /// vertices are appended with rest positions by `rest` and skin weights from their origins
+  /// (section 4.3), and the mesh's SurfaceIndex follows (welds, adjacency, BVH) in O(edit): as a
+  /// fresh build would give it, except that copies for different sides of a separation stay
+  /// apart.
+  /// @param[in] i       index into model().meshes
+  /// @param[in] edit    over mesh i's vertices (ids below #V) and the edit's new ones
+  /// @param[in] adjust  empty, or called once the new vertices are in the mesh
+  /// @throws InvalidInputError for a mesh, face or vertex id out of range, a face removed twice,
+  ///         or a new face's parent that is not removed, before anything is changed.
+  [[nodiscard]] AppliedEdit apply(std::size_t i, const LocalEdit& edit, RestPosition rest, const Adjust& adjust = {});
+
  private:
-  friend struct detail::LiveAccess;
   /// Headroom in the index's arrays for the faces and vertices operations add.
   void reserve_headroom();
   anim::RiggedModel model_;

@@ -1,5 +1,6 @@
 #pragma once
-// Private to surgery: the hash map of the operations' small affected regions.
+// Private to the library: the hash map of surgery's small affected regions and of on-demand
+// welding.
 
 #include <algorithm>
 #include <bit>
@@ -8,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace cgamesh::surgery {
+namespace cgamesh {
 
 /// Hash of a 64-bit key (edge keys, ids): the key itself, as FlatMap mixes it.
 struct KeyHash {
@@ -78,4 +79,4 @@ class FlatMap {
   int shift_ = 64;
 };
 
-}  // namespace cgamesh::surgery
+}  // namespace cgamesh
