@@ -20,6 +20,7 @@
 #include "cgamesh/anim/transform.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/mesh/influences.hpp"
+#include "cgamesh/mesh/weld.hpp"
 #include "gltf_extras_reader.hpp"
 
 namespace cgamesh::io {
@@ -285,7 +286,9 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw FileError("cannot read '" + path.string() + "': no such file");
   Assimp::Importer importer;
-  // Vertices on different joints, normals or UVs must stay apart: no JoinIdenticalVertices.
+  // Vertices that agree in every attribute are joined once the model is read
+  // (mesh::join_identical_vertices), not by Assimp's JoinIdenticalVertices: glTF's indexed
+  // vertices are kept as the file has them, so that vertex ids are the file's.
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == nullptr) {
     // For a corrupt or truncated file of a format it reads, Assimp may only say that no reader
@@ -299,7 +302,10 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
   }
   try {
     anim::RiggedModel model = Loader(*scene, options, path.parent_path()).run();
-    if (detail::is_gltf(path)) detail::read_gltf_extras(path, model);
+    if (detail::is_gltf(path))
+      detail::read_gltf_extras(path, model);
+    else
+      for (mesh::Mesh& m : model.meshes) mesh::join_identical_vertices(m);
     return model;
   } catch (const FileError&) {
     throw;

@@ -1,5 +1,6 @@
 #include "cgamesh/mesh/weld.hpp"
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -36,6 +37,65 @@ int number_classes(std::span<int> ids) {
     ids[v] = ids[v] == static_cast<int>(v) ? count++ : ids[static_cast<std::size_t>(ids[v])];
   }
   return count;
+}
+
+namespace {
+
+/// Everything a vertex holds, as bits (+0.0f for −0.0f): two vertices are one when these agree.
+using VertexBits = std::array<std::uint32_t, 16>;
+
+struct VertexBitsHash {
+  std::size_t operator()(const VertexBits& b) const noexcept {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (const std::uint32_t w : b) h = (h ^ w) * 0x100000001b3ULL;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+std::uint32_t bits(float x) { return std::bit_cast<std::uint32_t>(x + 0.0f); }
+
+VertexBits vertex_bits(const Mesh& m, Eigen::Index v) {
+  VertexBits b{};
+  for (int c = 0; c < 3; ++c) b[static_cast<std::size_t>(c)] = bits(m.positions(v, c));
+  if (m.normals.rows() > 0)
+    for (int c = 0; c < 3; ++c) b[static_cast<std::size_t>(3 + c)] = bits(m.normals(v, c));
+  if (m.uvs.rows() > 0)
+    for (int c = 0; c < 2; ++c) b[static_cast<std::size_t>(6 + c)] = bits(m.uvs(v, c));
+  if (!m.skin.empty())
+    for (int k = 0; k < 4; ++k) {
+      b[static_cast<std::size_t>(8 + k)] = bits(m.skin.weights(v, k));
+      b[12 + static_cast<std::size_t>(k / 2)] |= static_cast<std::uint32_t>(m.skin.joints(v, k)) << (16 * (k % 2));
+    }
+  if (m.generated.rows() > 0) b[14] = m.generated(v);
+  return b;
+}
+
+}  // namespace
+
+int join_identical_vertices(Mesh& m) {
+  const Eigen::Index nv = m.vertex_count();
+  FlatMap<int, VertexBits, VertexBitsHash> first;
+  first.reserve(static_cast<std::size_t>(nv));
+  std::vector<int> kept, new_id(static_cast<std::size_t>(nv));
+  kept.reserve(static_cast<std::size_t>(nv));
+  for (Eigen::Index v = 0; v < nv; ++v) {
+    const auto [id, added] = first.try_emplace(vertex_bits(m, v), static_cast<int>(kept.size()));
+    if (added) kept.push_back(static_cast<int>(v));
+    new_id[static_cast<std::size_t>(v)] = *id;
+  }
+  const int removed = static_cast<int>(nv) - static_cast<int>(kept.size());
+  if (removed == 0) return 0;
+  m.positions = m.positions(kept, Eigen::all).eval();
+  if (m.normals.rows() > 0) m.normals = m.normals(kept, Eigen::all).eval();
+  if (m.uvs.rows() > 0) m.uvs = m.uvs(kept, Eigen::all).eval();
+  if (m.generated.rows() > 0) m.generated = m.generated(kept).eval();
+  if (!m.skin.empty()) {
+    m.skin.joints = m.skin.joints(kept, Eigen::all).eval();
+    m.skin.weights = m.skin.weights(kept, Eigen::all).eval();
+  }
+  for (Eigen::Index f = 0; f < m.face_count(); ++f)
+    for (int c = 0; c < 3; ++c) m.faces(f, c) = new_id[static_cast<std::size_t>(m.faces(f, c))];
+  return removed;
 }
 
 }  // namespace cgamesh::mesh

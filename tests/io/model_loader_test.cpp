@@ -2,6 +2,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -54,6 +57,30 @@ TEST(ModelLoader, GltfSamples) {
     expect_valid_skin(m.meshes[0]);
     for (int j = 0; j < m.skeleton.size(); ++j) EXPECT_LT(m.skeleton.parents()[j], j);
   }
+}
+
+// Importers that give one vertex per face corner (OBJ, .x, SMD) would make triangle soups:
+// vertices equal in every attribute are joined, seams (another UV) stay split.
+TEST(ModelLoader, SoupsAreJoinedAndSeamsKept) {
+  const anim::RiggedModel cow = io::load_model(cgamesh_test::asset("cow.obj"));  // positions only
+  EXPECT_EQ(cow.meshes.at(0).vertex_count(), 2903);
+  EXPECT_EQ(cow.meshes.at(0).face_count(), 5804);
+  // spot.obj has UVs: one vertex per distinct "v/vt" corner of its faces.
+  std::ifstream in(cgamesh_test::asset("spot.obj"));
+  std::set<std::string> corners;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("f ", 0) != 0) continue;
+    std::istringstream words(line.substr(2));
+    for (std::string corner; words >> corner;) corners.insert(corner);
+  }
+  const anim::RiggedModel spot = io::load_model(cgamesh_test::asset("spot.obj"));
+  EXPECT_EQ(spot.meshes.at(0).vertex_count(), static_cast<Eigen::Index>(corners.size()));
+  EXPECT_GT(corners.size(), 2930u) << "seams: more corners than positions";
+  // A skinned .x soup: far fewer vertices than corners, each still a valid skin.
+  const anim::RiggedModel wuson = io::load_model(cgamesh_test::assimp_model("X/Testwuson.X"));
+  const mesh::Mesh& w = wuson.meshes.at(0);
+  EXPECT_LT(w.vertex_count(), w.face_count());
+  expect_valid_skin(w);
 }
 
 TEST(ModelLoader, AssimpTestModelsInOtherFormats) {

@@ -52,4 +52,39 @@ TEST(Weld, ClassesNumberedDenselyInOrderOfTheirFirstVertex) {
   EXPECT_THROW(static_cast<void>(mesh::number_classes(bad)), InvalidInputError);
 }
 
+TEST(Weld, JoinsVerticesEqualInEveryAttributeAndKeepsSeams) {
+  // A quad as a soup of two triangles: the copies of the diagonal's ends join, except where a
+  // UV differs (a seam) or the weights differ.
+  mesh::Mesh m;
+  m.positions.resize(6, 3);
+  m.positions << 0, 0, 0, 1, 0, 0, 1, 1, 0,  //
+      -0.0f, 0, 0, 1, 1, 0, 0, 1, 0;
+  m.uvs.resize(6, 2);
+  m.uvs << 0, 0, 1, 0, 1, 1,  //
+      0, 0, 1, 1, 0, 1;
+  m.faces.resize(2, 3);
+  m.faces << 0, 1, 2, 3, 4, 5;
+  mesh::Mesh seam = m;
+  seam.uvs(4, 0) = 0.5f;
+  EXPECT_EQ(mesh::join_identical_vertices(m), 2);
+  EXPECT_EQ(m.vertex_count(), 4);
+  EXPECT_EQ(m.faces.row(1), Eigen::RowVector3i(0, 2, 3));
+  EXPECT_EQ(m.uvs.row(3), Eigen::RowVector2f(0, 1));
+  EXPECT_EQ(mesh::join_identical_vertices(seam), 1);
+  EXPECT_EQ(seam.faces.row(1), Eigen::RowVector3i(0, 3, 4));
+
+  mesh::Mesh skinned = m;
+  skinned.positions.row(3) = skinned.positions.row(0);
+  skinned.uvs.row(3) = skinned.uvs.row(0);
+  skinned.skin.palette = {0, 1};
+  skinned.skin.joints.setZero(4, 4);
+  skinned.skin.weights.setZero(4, 4);
+  skinned.skin.weights.col(0).setOnes();
+  skinned.skin.joints(3, 0) = 1;  // vertex 3 sits on vertex 0 but on another joint
+  EXPECT_EQ(mesh::join_identical_vertices(skinned), 0);
+  skinned.skin.joints(3, 0) = 0;
+  EXPECT_EQ(mesh::join_identical_vertices(skinned), 1);
+  EXPECT_EQ(skinned.skin.joints.rows(), 3);
+}
+
 }  // namespace
