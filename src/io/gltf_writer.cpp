@@ -21,6 +21,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
 #include "cgamesh/mesh/influences.hpp"
+
 #include "gltf_extras_reader.hpp"
 
 namespace cgamesh::io {
@@ -227,8 +228,8 @@ class Builder {
       // glTF's v runs down the image; Mesh::uvs follow OpenGL (v up), as Assimp loads them.
       mesh::RowMatrixXf<2> uv = m.uvs;
       uv.col(1) = (1.0f - uv.col(1).array()).matrix();
-      prim.attributes["TEXCOORD_0"] = add_float_accessor(uv.data(), static_cast<std::size_t>(nv), 2,
-                                                         TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+      prim.attributes["TEXCOORD_0"] = add_float_accessor(uv.data(), static_cast<std::size_t>(nv), 2, TINYGLTF_TYPE_VEC2,
+                                                         TINYGLTF_TARGET_ARRAY_BUFFER, false);
     }
     if (m.generated.rows() == nv && (m.generated.array() != 0).any()) {
       const std::vector<float> flags(m.generated.data(), m.generated.data() + nv);
@@ -245,9 +246,16 @@ class Builder {
     gmesh.primitives.push_back(std::move(prim));
     gm_.meshes.push_back(std::move(gmesh));
 
+    // On its own node where that node holds no mesh yet, so that a read-write cycle adds no node.
+    const int mesh_index = static_cast<int>(gm_.meshes.size()) - 1;
+    if (m.node >= 0 && m.node < skeleton_size() && gm_.nodes[static_cast<std::size_t>(m.node)].mesh < 0) {
+      gm_.nodes[static_cast<std::size_t>(m.node)].mesh = mesh_index;
+      gm_.nodes[static_cast<std::size_t>(m.node)].skin = skin;
+      return;
+    }
     tinygltf::Node node;
     node.name = m.name;
-    node.mesh = static_cast<int>(gm_.meshes.size()) - 1;
+    node.mesh = mesh_index;
     node.skin = skin;
     gm_.nodes.push_back(std::move(node));
     const int node_index = static_cast<int>(gm_.nodes.size()) - 1;

@@ -21,6 +21,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/mesh/influences.hpp"
 #include "cgamesh/mesh/weld.hpp"
+
 #include "gltf_extras_reader.hpp"
 
 namespace cgamesh::io {
@@ -64,8 +65,9 @@ class Loader {
     if (j.name.empty()) j.name = "node" + std::to_string(index);
     j.parent = parent;
     j.rest = Transform::from_matrix(to_eigen(node->mTransformation));
-    if (!j.rest.is_uniform()) warn("node '" + j.name + "' has non-uniform scale (" + describe(j.rest.scale) +
-                                   "); its versor uses the geometric mean " + std::to_string(j.rest.uniform_scale()));
+    if (!j.rest.is_uniform())
+      warn("node '" + j.name + "' has non-uniform scale (" + describe(j.rest.scale) +
+           "); its versor uses the geometric mean " + std::to_string(j.rest.uniform_scale()));
     editable_.joints.push_back(std::move(j));
     by_name_.emplace(editable_.joints.back().name, index);
     for (unsigned m = 0; m < node->mNumMeshes; ++m) mesh_refs_.emplace_back(index, node->mMeshes[m]);
@@ -98,7 +100,7 @@ class Loader {
     for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
     if (in.mMaterialIndex < scene_.mNumMaterials) m.material = static_cast<int>(in.mMaterialIndex);
     if (in.HasBones()) add_skin(in, m, remap);
-    else m.node = node;
+    m.node = node;
     model_.meshes.push_back(std::move(m));
   }
 
@@ -197,7 +199,10 @@ class Loader {
       const auto size = std::filesystem::file_size(file, ec);
       if (ec || size == 0 || size > kMaxTextureBytes) {
         warn("material '" + material + "': texture '" + path + "' " +
-             (ec ? "not found" : size == 0 ? "is empty" : "is larger than 256 MiB") + "; not kept");
+             (ec          ? "not found"
+              : size == 0 ? "is empty"
+                          : "is larger than 256 MiB") +
+             "; not kept");
         return texture_of_path_[path] = -1;
       }
       std::ifstream stream(file, std::ios::binary);
@@ -207,7 +212,8 @@ class Loader {
         return texture_of_path_[path] = -1;
       }
       std::string ext = file.extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      std::transform(ext.begin(), ext.end(), ext.begin(),
+                     [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
       image.mime_type = ext == ".png" ? "image/png" : ext == ".jpg" || ext == ".jpeg" ? "image/jpeg" : "";
     }
     model_.textures.push_back(std::move(image));

@@ -1,18 +1,18 @@
 #include "cgamesh/deform/motor_blend.hpp"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <numbers>
 #include <vector>
 
-#include "cga/test_util.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/deform/harmonic_handles.hpp"
 #include "cgamesh/deform/spline_deform.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/mesh/subdivide.hpp"
-#include "cgamesh/mesh/subdivide.hpp"
+
+#include "cga/test_util.hpp"
 #include "deform/deform_fixtures.hpp"
 
 namespace {
@@ -48,10 +48,10 @@ TEST(DeformMotorBlend, AffineOfExpMatchesTheVersor) {
     return g;
   };
   cases.push_back(gen({0, 0, 0, 0, 0, 0, 0}));
-  cases.push_back(gen({0, 0, 0, 0.3, -1, 2, 0}));              // pure translation
-  cases.push_back(gen({kPi / 2, 0, 0, 0.3, -1, 2, 0}));        // 180 degree screw
-  cases.push_back(gen({1e-7, 2e-7, 0, 1, 1, 1, 0}));           // almost a translation
-  cases.push_back(gen({0, 0, 0, 0, 0, 0, -0.4}));              // pure dilation
+  cases.push_back(gen({0, 0, 0, 0.3, -1, 2, 0}));               // pure translation
+  cases.push_back(gen({kPi / 2, 0, 0, 0.3, -1, 2, 0}));         // 180 degree screw
+  cases.push_back(gen({1e-7, 2e-7, 0, 1, 1, 1, 0}));            // almost a translation
+  cases.push_back(gen({0, 0, 0, 0, 0, 0, -0.4}));               // pure dilation
   cases.push_back(gen({0.2, -0.1, 0.5, 0.3, 0.1, -0.2, 0.3}));  // everything
   for (int k = 0; k < 50; ++k) {
     std::array<double, 7> c{};
@@ -70,11 +70,14 @@ TEST(DeformMotorBlend, AffineOfExpMatchesTheVersor) {
 
 TEST(DeformSpline, BasesArePartitionsOfUnityThatInterpolateTheEnds) {
   using deform::SplineBasis;
-  const std::vector<std::pair<deform::SplineOptions, std::size_t>> bases{
-      {{SplineBasis::linear, 3, {}}, 2},  {{SplineBasis::linear, 3, {}}, 5},
-      {{SplineBasis::quadratic_lagrange, 3, {}}, 3}, {{SplineBasis::bezier, 3, {}}, 4},
-      {{SplineBasis::bspline, 3, {}}, 4}, {{SplineBasis::bspline, 3, {}}, 7},
-      {{SplineBasis::bspline, 2, {}}, 5}, {{SplineBasis::bspline, 1, {}}, 3}};
+  const std::vector<std::pair<deform::SplineOptions, std::size_t>> bases{{{SplineBasis::linear, 3, {}}, 2},
+                                                                         {{SplineBasis::linear, 3, {}}, 5},
+                                                                         {{SplineBasis::quadratic_lagrange, 3, {}}, 3},
+                                                                         {{SplineBasis::bezier, 3, {}}, 4},
+                                                                         {{SplineBasis::bspline, 3, {}}, 4},
+                                                                         {{SplineBasis::bspline, 3, {}}, 7},
+                                                                         {{SplineBasis::bspline, 2, {}}, 5},
+                                                                         {{SplineBasis::bspline, 1, {}}, 3}};
   for (const auto& [options, n] : bases) {
     std::vector<double> w(n);
     for (int k = 0; k <= 40; ++k) {
@@ -135,7 +138,9 @@ TEST(DeformSpline, EqualKeysMoveTheWholeMeshRigidly) {
   const Versor<double> motion = rigid(Vec3(0.5, -1, 2), Vec3(1, 2, 3), 2.5);
   for (const auto basis : {deform::SplineBasis::linear, deform::SplineBasis::quadratic_lagrange,
                            deform::SplineBasis::bezier, deform::SplineBasis::bspline}) {
-    const std::size_t n = basis == deform::SplineBasis::linear ? 2 : basis == deform::SplineBasis::quadratic_lagrange ? 3 : 5;
+    const std::size_t n = basis == deform::SplineBasis::linear               ? 2
+                          : basis == deform::SplineBasis::quadratic_lagrange ? 3
+                                                                             : 5;
     const deform::MotorBlend bound = deform::bind_spline(m, slab(m, 2, 0.1, false), slab(m, 2, 0.1, true),
                                                          std::vector<Versor<double>>(n, identity()), {basis, 3, {}});
     mesh::RowMatrixXf<3> out;
@@ -183,9 +188,11 @@ TEST(DeformSpline, EndHandlesFollowTheirKeysRigidly) {
   bound.deform(keys, out);
   const cga::PointMap<double> first(keys[0]), last(keys[2]);
   for (const int v : start)
-    EXPECT_LT((out.row(v).transpose().cast<double>() - first(m.positions.row(v).transpose().cast<double>())).norm(), 1e-5);
+    EXPECT_LT((out.row(v).transpose().cast<double>() - first(m.positions.row(v).transpose().cast<double>())).norm(),
+              1e-5);
   for (const int v : end)
-    EXPECT_LT((out.row(v).transpose().cast<double>() - last(m.positions.row(v).transpose().cast<double>())).norm(), 1e-5);
+    EXPECT_LT((out.row(v).transpose().cast<double>() - last(m.positions.row(v).transpose().cast<double>())).norm(),
+              1e-5);
 }
 
 TEST(DeformSpline, TranslatorsAndHalfTurnsBlendWithoutNaN) {
@@ -193,8 +200,8 @@ TEST(DeformSpline, TranslatorsAndHalfTurnsBlendWithoutNaN) {
   const std::vector<Versor<double>> keys{cga::translator(Vec3(0, 0, 2)), rigid(Vec3(0, 0, 0), Vec3(1, 0, 0), kPi),
                                          identity(), rigid(Vec3(1, 1, 0), Vec3(0, 1, 0), kPi),
                                          cga::translator(Vec3(-3, 0, 0))};
-  const deform::MotorBlend bound = deform::bind_spline(m, slab(m, 2, 0.0, false), slab(m, 2, 0.0, true),
-                                                       std::vector<Versor<double>>(5, identity()));
+  const deform::MotorBlend bound =
+      deform::bind_spline(m, slab(m, 2, 0.0, false), slab(m, 2, 0.0, true), std::vector<Versor<double>>(5, identity()));
   mesh::RowMatrixXf<3> out;
   bound.deform(keys, out);
   EXPECT_TRUE(out.allFinite());
@@ -212,9 +219,9 @@ TEST(DeformSpline, TranslatorsAndHalfTurnsBlendWithoutNaN) {
 // between D(1) and D(4) a vertex at parameter lambda scales by 4^lambda about the origin.
 TEST(DeformSpline, DilatingKeysScaleByTheBlendedFactor) {
   const mesh::Mesh m = cylinder(16, 12);
-  const deform::MotorBlend bound = deform::bind_spline(m, slab(m, 2, 0.0, false), slab(m, 2, 0.0, true),
-                                                       std::vector<Versor<double>>(2, identity()),
-                                                       {deform::SplineBasis::linear, 3, {}});
+  const deform::MotorBlend bound =
+      deform::bind_spline(m, slab(m, 2, 0.0, false), slab(m, 2, 0.0, true), std::vector<Versor<double>>(2, identity()),
+                          {deform::SplineBasis::linear, 3, {}});
   const std::vector<Versor<double>> keys{identity(), Versor<double>(cga::dilator(4.0))};
   mesh::RowMatrixXf<3> out;
   bound.deform(keys, out);
@@ -275,7 +282,8 @@ TEST(DeformMotorBlend, RejectsMismatchedSizes) {
   const deform::MotorBlend b(m.positions, deform::WeightMatrix::Zero(32, 2), two);
   mesh::RowMatrixXf<3> out;
   EXPECT_THROW(b.deform(std::vector<Versor<double>>(3, identity()), out), InvalidInputError);
-  EXPECT_THROW(deform::bind_harmonic_handles(m, std::vector<std::vector<int>>{{0}, {31}}, std::vector<Versor<double>>(3, identity())),
+  EXPECT_THROW(deform::bind_harmonic_handles(m, std::vector<std::vector<int>>{{0}, {31}},
+                                             std::vector<Versor<double>>(3, identity())),
                InvalidInputError);
 }
 

@@ -230,6 +230,14 @@ int node_named(const tinygltf::Model& m, const std::string& name) {
   return -1;
 }
 
+/// The node holding the glTF mesh named `name`, or -1.
+int mesh_node(const tinygltf::Model& m, const std::string& name) {
+  for (std::size_t n = 0; n < m.nodes.size(); ++n)
+    if (m.nodes[n].mesh >= 0 && m.meshes[static_cast<std::size_t>(m.nodes[n].mesh)].name == name)
+      return static_cast<int>(n);
+  return -1;
+}
+
 int parent_of(const tinygltf::Model& m, int node) {
   int parent = -1;
   for (std::size_t i = 0; i < m.nodes.size(); ++i)
@@ -248,7 +256,8 @@ void check_model(const tinygltf::Model& g, const RiggedModel& model) {
   const auto& sk = model.skeleton;
 
   // Nodes: joint i is node i, with its rest TRS and its parent.
-  ASSERT_EQ(g.nodes.size(), static_cast<std::size_t>(sk.size()) + 3);
+  // The hat sits on bone2's own node; the cylinder and the ground (no node) get nodes of their own.
+  ASSERT_EQ(g.nodes.size(), static_cast<std::size_t>(sk.size()) + 2);
   for (int j = 0; j < sk.size(); ++j) {
     const tinygltf::Node& n = g.nodes[j];
     SCOPED_TRACE("joint " + std::string(sk.names()[j]));
@@ -269,12 +278,12 @@ void check_model(const tinygltf::Model& g, const RiggedModel& model) {
   const int root = sk.find("root"), bone1 = sk.find("bone1"), bone2 = sk.find("bone2");
   EXPECT_DOUBLE_EQ(g.nodes[root].scale.at(1), 2.0);  // non-uniform scale kept
 
-  // Mesh nodes: skinned and ground at the scene root, hat under bone2; no transforms.
-  const int cyl = node_named(g, "cylinder"), hat = node_named(g, "hat"), ground = node_named(g, "ground");
+  // Mesh nodes: skinned and ground at the scene root without transforms, hat on bone2.
+  const int cyl = mesh_node(g, "cylinder"), hat = mesh_node(g, "hat"), ground = mesh_node(g, "ground");
   ASSERT_GE(cyl, sk.size());
-  ASSERT_GE(hat, sk.size());
+  EXPECT_EQ(hat, bone2);
   ASSERT_GE(ground, sk.size());
-  for (int n : {cyl, hat, ground}) {
+  for (int n : {cyl, ground}) {
     EXPECT_TRUE(g.nodes[n].translation.empty() && g.nodes[n].rotation.empty() && g.nodes[n].scale.empty() &&
                 g.nodes[n].matrix.empty());
     EXPECT_GE(g.nodes[n].mesh, 0);
@@ -282,7 +291,6 @@ void check_model(const tinygltf::Model& g, const RiggedModel& model) {
   }
   EXPECT_EQ(parent_of(g, cyl), -1);
   EXPECT_EQ(parent_of(g, ground), -1);
-  EXPECT_EQ(parent_of(g, hat), bone2);
   EXPECT_EQ(g.nodes[cyl].skin, 0);
   EXPECT_EQ(g.nodes[hat].skin, -1);
   ASSERT_EQ(g.scenes.size(), 1u);
@@ -295,7 +303,7 @@ void check_model(const tinygltf::Model& g, const RiggedModel& model) {
   ASSERT_EQ(g.meshes.size(), 3u);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const auto& src = model.meshes[i];
-    const int node = node_named(g, src.name);
+    const int node = mesh_node(g, src.name);
     ASSERT_GE(node, 0);
     const tinygltf::Mesh& gm = g.meshes[g.nodes[node].mesh];
     SCOPED_TRACE("mesh " + src.name);

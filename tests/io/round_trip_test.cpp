@@ -4,9 +4,6 @@
 // diagonal, with the same vertex and face counts (no seam merged). Every written file must pass
 // the Khronos glTF validator with no errors.
 
-#include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
@@ -17,17 +14,20 @@
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <unistd.h>
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <gtest/gtest.h>
 
-#include "anim/model_fixtures.hpp"
-#include "support/js_oracles.hpp"
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+
+#include "anim/model_fixtures.hpp"
+#include "support/js_oracles.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -59,7 +59,7 @@ double diagonal(const std::vector<mesh::RowMatrixXf<3>>& meshes) {
 }
 
 struct Deviation {
-  double relative = 0;  ///< largest vertex distance / bounding box diagonal of `a`'s pose
+  double relative = 0;   ///< largest vertex distance / bounding box diagonal of `a`'s pose
   std::size_t mesh = 0;  ///< where it is
 };
 
@@ -109,8 +109,10 @@ void expect_round_trip(const anim::RiggedModel& a, const anim::RiggedModel& b) {
     const int ma = a.meshes[i].material, mb = b.meshes[i].material;
     if (ma < 0) continue;
     ASSERT_GE(mb, 0) << "the material is lost";
-    const mesh::Material &fa = a.materials[static_cast<std::size_t>(ma)], &fb = b.materials[static_cast<std::size_t>(mb)];
-    EXPECT_TRUE(fa.base_color.isApprox(fb.base_color, 1e-6f)) << fa.base_color.transpose() << " vs " << fb.base_color.transpose();
+    const mesh::Material &fa = a.materials[static_cast<std::size_t>(ma)],
+                         &fb = b.materials[static_cast<std::size_t>(mb)];
+    EXPECT_TRUE(fa.base_color.isApprox(fb.base_color, 1e-6f))
+        << fa.base_color.transpose() << " vs " << fb.base_color.transpose();
     EXPECT_EQ(fa.base_color_texture >= 0, fb.base_color_texture >= 0);
     if (fa.base_color_texture >= 0 && fb.base_color_texture >= 0) {
       EXPECT_EQ(a.textures[static_cast<std::size_t>(fa.base_color_texture)].bytes,
@@ -162,7 +164,8 @@ void check_round_trip(const fs::path& path, bool optional) {
 /// The .glb and the .gltf (+ .bin) written for `path` pass the Khronos validator.
 void check_validator(const fs::path& path, bool optional) {
   if (optional && !fs::exists(path)) GTEST_SKIP() << path << " is not installed (assimp-testmodels)";
-  if (!cgamesh_test::validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
+  if (!cgamesh_test::validator_available())
+    GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
   const anim::RiggedModel original = io::load_model(path);
   TempDir dir;
   for (const char* name : {"model.glb", "model.gltf"}) {
@@ -176,8 +179,8 @@ void check_validator(const fs::path& path, bool optional) {
 }
 
 /// One round-trip test and one validator test per model.
-#define CGAMESH_ROUND_TRIP_TESTS(name, path, optional)               \
-  TEST(RoundTrip, name) { check_round_trip(path, optional); }        \
+#define CGAMESH_ROUND_TRIP_TESTS(name, path, optional)        \
+  TEST(RoundTrip, name) { check_round_trip(path, optional); } \
   TEST(RoundTripValidator, name) { check_validator(path, optional); }
 
 CGAMESH_ROUND_TRIP_TESTS(RiggedSimple, cgamesh_test::asset("RiggedSimple.glb"), false)
@@ -193,10 +196,39 @@ CGAMESH_ROUND_TRIP_TESTS(AnimationWithSkeletonFbx, cgamesh_test::assimp_model("F
 CGAMESH_ROUND_TRIP_TESTS(StaticMeshesDae,
                          cgamesh_test::assimp_model("Collada/anims_with_full_rotations_between_keys.DAE"), true)
 CGAMESH_ROUND_TRIP_TESTS(StaticMeshesFbx, cgamesh_test::assimp_model("FBX/cubes_with_names.fbx"), true)
-CGAMESH_ROUND_TRIP_TESTS(CesiumMilkTruck, cgamesh_test::assimp_model("glTF/CesiumMilkTruck/CesiumMilkTruck.gltf"),
-                         true)
+CGAMESH_ROUND_TRIP_TESTS(CesiumMilkTruck, cgamesh_test::assimp_model("glTF/CesiumMilkTruck/CesiumMilkTruck.gltf"), true)
 
 #undef CGAMESH_ROUND_TRIP_TESTS
+
+// Read-write cycles keep the node tree: no synthetic root, no node per mesh added each time.
+TEST(RoundTripHierarchy, CyclesKeepNodeCountNamesParentsAndTransforms) {
+  TempDir dir;
+  for (const fs::path& source : {cgamesh_test::demo_model(), cgamesh_test::asset("RiggedFigure.glb")}) {
+    SCOPED_TRACE(source.string());
+    const anim::RiggedModel first = io::load_model(source);
+    anim::RiggedModel model = first;
+    std::vector<std::string> names;
+    for (int cycle = 0; cycle < 3; ++cycle) {
+      const fs::path out = dir.path() / ("cycle" + std::to_string(cycle) + ".glb");
+      (void)io::write_gltf(model, out);
+      model = io::load_model(out);
+      const anim::Skeleton &a = first.skeleton, &b = model.skeleton;
+      ASSERT_EQ(b.size(), a.size()) << "cycle " << cycle;
+      for (int j = 0; j < a.size(); ++j) {
+        EXPECT_EQ(b.parents()[j], a.parents()[j]) << j;
+        const anim::Transform &ta = a.rest()[j], &tb = b.rest()[j];
+        EXPECT_LE((ta.translation - tb.translation).norm(), 1e-6) << j;
+        EXPECT_LE(ta.rotation.angularDistance(tb.rotation), 1e-6) << j;
+        EXPECT_LE((ta.scale - tb.scale).norm(), 1e-6) << j;
+      }
+      // Names: as the first cycle gave them (unnamed nodes are named once, by their index).
+      if (cycle == 0) names.assign(b.names().begin(), b.names().end());
+      for (int j = 0; j < a.size(); ++j) EXPECT_EQ(b.names()[j], names[static_cast<std::size_t>(j)]) << j;
+      ASSERT_EQ(model.meshes.size(), first.meshes.size());
+      for (std::size_t i = 0; i < first.meshes.size(); ++i) EXPECT_EQ(model.meshes[i].node, first.meshes[i].node);
+    }
+  }
+}
 
 // The comparison above is not blind: a tenth of a degree on one key, or a time 10 ms off, is seen.
 TEST(RoundTripComparison, SeesSmallDifferences) {
@@ -220,9 +252,9 @@ TEST(RoundTripComparison, SeesSmallDifferences) {
     EXPECT_LE(deviation(a, pa, a, pa, mode).relative, 0.0);
     EXPECT_GT(deviation(a, pa, b, anim::sample(b.skeleton, b.clips[0], t, anim::BlendMode::format), mode).relative,
               1e-5);
-    EXPECT_GT(deviation(a, pa, a, anim::sample(a.skeleton, a.clips[0], t + 0.01, anim::BlendMode::format), mode)
-                  .relative,
-              1e-5);
+    EXPECT_GT(
+        deviation(a, pa, a, anim::sample(a.skeleton, a.clips[0], t + 0.01, anim::BlendMode::format), mode).relative,
+        1e-5);
   }
 }
 

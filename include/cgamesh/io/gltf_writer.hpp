@@ -24,19 +24,20 @@ struct GltfWriteOptions {
 ///  - node i is skeleton joint i (name, rest TRS; non-uniform scale kept), children from the
 ///    parents; skeleton roots are scene roots. If a skin's joints lie in several trees, one
 ///    extra root node "cgamesh_root" (identity) is placed above all skeleton roots.
-///  - each mesh gets its own node and a glTF mesh with one triangle primitive: POSITION (with
+///  - each mesh gets a glTF mesh with one triangle primitive: POSITION (with
 ///    min/max), NORMAL (renormalised; dropped with a warning if one is zero or not finite),
 ///    TEXCOORD_0, _CGAMESH_GENERATED (FLOAT 0/1, Mesh::generated, when some vertex is
-///    generated; load_model() reads it back), and for a skinned mesh JOINTS_0 (UNSIGNED_SHORT) and WEIGHTS_0 (FLOAT, each
-///    row renormalised to sum 1, duplicate joints merged, zero-weight joints set to 0); indices
-///    UNSIGNED_SHORT when the mesh has at most 65535 vertices, else UNSIGNED_INT. Vertices are
-///    written as they are, never merged.
-///  - a skinned mesh's node is a scene root without transform, with one skin per mesh: joints =
-///    the palette's nodes, inverseBindMatrices (last row exactly 0 0 0 1), skeleton = the
-///    joints' lowest common ancestor. A static mesh's node is a child of node `mesh.node`
-///    (without transform; static meshes come first among its children, in model order, so a
-///    depth-first reader such as load_model() meets them in the model's order), or a scene root
-///    when `mesh.node` is -1.
+///    generated; load_model() reads it back), and for a skinned mesh JOINTS_0 (UNSIGNED_SHORT) and WEIGHTS_0 (FLOAT,
+///    each row renormalised to sum 1, duplicate joints merged, zero-weight joints set to 0); indices UNSIGNED_SHORT
+///    when the mesh has at most 65535 vertices, else UNSIGNED_INT. Vertices are written as they are, never merged.
+///  - a mesh goes on node `mesh.node` itself when that node holds no mesh yet, so that a
+///    load-write cycle keeps the node tree (count, names, transforms); otherwise on a node of its
+///    own: for a skinned mesh a scene root without transform, for a static mesh a child of node
+///    `mesh.node` without transform (static meshes come first among its children, in model
+///    order, so a depth-first reader such as load_model() meets them in the model's order), or a
+///    scene root when `mesh.node` is -1. A skinned mesh has one skin: joints = the palette's
+///    nodes, inverseBindMatrices (last row exactly 0 0 0 1), skeleton = the joints' lowest
+///    common ancestor.
 ///  - the materials that meshes use (base colour factor and texture, metallic and roughness
 ///    factors, double-sidedness), each PNG or JPEG texture's image embedded in the buffer (a
 ///    texture of another type is dropped with a warning).

@@ -45,9 +45,11 @@ struct Mesh {
   /// subdivision), 0 where it comes from the file or is a copy of such a vertex; 0 rows when
   /// no operation made any. glTF files keep it as the attribute _CGAMESH_GENERATED.
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> generated;
-  Skin skin;                 ///< empty for a static mesh
-  int node = -1;             ///< skeleton node the mesh hangs from (static meshes), or -1
-  int material = -1;         ///< index into RiggedModel::materials, or -1 (none)
+  Skin skin;  ///< empty for a static mesh
+  /// Skeleton node the mesh hangs from, or -1: a static mesh is placed by it; a skinned mesh
+  /// is placed by its joints alone, and its node is kept so that a written file keeps its tree.
+  int node = -1;
+  int material = -1;  ///< index into RiggedModel::materials, or -1 (none)
 
   [[nodiscard]] Eigen::Index vertex_count() const noexcept { return positions.rows(); }
   [[nodiscard]] Eigen::Index face_count() const noexcept { return faces.rows(); }
