@@ -2,11 +2,20 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <cstdlib>
+#include <iostream>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
+#include <thread>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/model_loader.hpp"
+
+#include "exit_codes.hpp"
 
 namespace cgamesh::cli {
 namespace {
@@ -29,9 +38,45 @@ int joint_index(const anim::Skeleton& skeleton, const std::string& name) {
 const std::map<std::string, anim::BlendMode> kBlendModes{
     {"format", BlendMode::format}, {"linear", BlendMode::linear}, {"log", BlendMode::log}};
 const std::map<std::string, anim::SkinningMode> kSkinningModes{{"cga", SkinningMode::cga},
-                                                         {"versor", SkinningMode::versor},
-                                                         {"matrix", SkinningMode::matrix},
-                                                         {"dqs", SkinningMode::dqs}};
+                                                               {"versor", SkinningMode::versor},
+                                                               {"matrix", SkinningMode::matrix},
+                                                               {"dqs", SkinningMode::dqs}};
+
+void add_load_timeout(CLI::App& app) {
+  app.add_option("--load-timeout", load_timeout_seconds,
+                 "seconds a model may take to load before cgamesh gives up with exit 3 (default 120)")
+      ->check(CLI::PositiveNumber);
+  app.fallthrough();
+}
+
+anim::RiggedModel load_model(const std::filesystem::path& path) {
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool done = false;
+  std::thread watchdog([&] {
+    std::unique_lock lock(mutex);
+    if (finished.wait_for(lock, std::chrono::duration<double>(load_timeout_seconds), [&] { return done; })) return;
+    std::cerr << "cgamesh: cannot load '" << path.string() << "': reading it took longer than " << load_timeout_seconds
+              << " s (a corrupt file can make a reader loop forever); allow more with --load-timeout\n";
+    std::_Exit(kExitBadInput);
+  });
+  const auto stop = [&] {
+    {
+      const std::lock_guard lock(mutex);
+      done = true;
+    }
+    finished.notify_one();
+    watchdog.join();
+  };
+  try {
+    anim::RiggedModel model = io::load_model(path);
+    stop();
+    return model;
+  } catch (...) {
+    stop();
+    throw;
+  }
+}
 
 std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what) {
   std::vector<double> out;
@@ -51,7 +96,8 @@ std::vector<double> parse_numbers(const std::string& text, std::size_t count, co
     pos = comma + 1;
   }
   if (out.size() != count)
-    throw InvalidInputError(what + ": expected " + std::to_string(count) + " comma-separated numbers, got '" + text + "'");
+    throw InvalidInputError(what + ": expected " + std::to_string(count) + " comma-separated numbers, got '" + text +
+                            "'");
   return out;
 }
 
@@ -59,7 +105,8 @@ anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& te
   const std::size_t colon = text.rfind(':');
   const std::size_t eq = text.find('=', colon == std::string::npos ? 0 : colon);
   if (colon == std::string::npos || eq == std::string::npos)
-    throw InvalidInputError("'" + text + "': expected JOINT:rotate=AX,AY,AZ,DEG, JOINT:translate=X,Y,Z or JOINT:scale=S");
+    throw InvalidInputError("'" + text +
+                            "': expected JOINT:rotate=AX,AY,AZ,DEG, JOINT:translate=X,Y,Z or JOINT:scale=S");
   anim::JointEdit e;
   e.joint = joint_index(skeleton, text.substr(0, colon));
   const std::string kind = text.substr(colon + 1, eq - colon - 1), args = text.substr(eq + 1);
@@ -73,7 +120,8 @@ anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& te
     e.translation = Eigen::Vector3d(v[0], v[1], v[2]);
   } else if (kind == "scale") {
     e.scale = parse_numbers(args, 1, "scale")[0];
-    if (!(e.scale > 0)) throw InvalidInputError("scale: must be > 0 (a CGA dilator has a positive factor), got " + args);
+    if (!(e.scale > 0))
+      throw InvalidInputError("scale: must be > 0 (a CGA dilator has a positive factor), got " + args);
   } else {
     throw InvalidInputError("'" + kind + "': the edit must be rotate, translate or scale");
   }
@@ -108,8 +156,7 @@ anim::Pose PoseChoice::pose(const anim::RiggedModel& model) const {
   const int clip = animated ? clip_index(model, anim) : -1;
   if (animated && clip < 0) throw InvalidInputError("--anim/--time: the model has no animation");
   anim::Pose p = clip < 0 ? anim::rest_pose(model.skeleton)
-                          : anim::sample(model.skeleton, model.clips[static_cast<std::size_t>(clip)],
-                                         time, blend);
+                          : anim::sample(model.skeleton, model.clips[static_cast<std::size_t>(clip)], time, blend);
   std::vector<anim::JointEdit> edits;
   for (const std::string& s : sets) edits.push_back(parse_edit(model.skeleton, s));
   anim::apply_edits(p, edits);
@@ -117,7 +164,7 @@ anim::Pose PoseChoice::pose(const anim::RiggedModel& model) const {
 }
 
 std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
-                                                   SkinningMode mode) {
+                                                  SkinningMode mode) {
   const auto gv = anim::global_versors(model.skeleton, pose);
   const auto gm = anim::global_matrices(model.skeleton, pose);
   std::vector<mesh::RowMatrixXf<3>> out;
@@ -127,7 +174,8 @@ std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model
 
 bool is_gltf_path(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".glb" || ext == ".gltf";
 }
 

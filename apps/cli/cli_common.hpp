@@ -54,6 +54,17 @@ struct PoseChoice {
 [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
                                                                 anim::SkinningMode mode);
 
+/// Seconds a model may take to load (--load-timeout): some readers loop forever on corrupt
+/// files, and a reader cannot be interrupted, so past this the process ends (exit 3).
+inline double load_timeout_seconds = 120;
+
+/// Adds --load-timeout to `app` (given before or after the command).
+void add_load_timeout(CLI::App& app);
+
+/// io::load_model within load_timeout_seconds; past it, a message on stderr and exit 3.
+/// @throws FileError as io::load_model does.
+[[nodiscard]] anim::RiggedModel load_model(const std::filesystem::path& path);
+
 /// True for a .glb or .gltf path (any case).
 [[nodiscard]] bool is_gltf_path(const std::filesystem::path& path);
 

@@ -24,6 +24,7 @@
 #include "cgamesh/io/atomic_file.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cli_common.hpp"
 
 namespace cgamesh::cli {
 namespace {
@@ -160,7 +161,7 @@ struct DeformCommand {
         spec, "weights", {{"mean_value", deform::LaplacianWeights::mean_value}, {"cotangent", deform::LaplacianWeights::cotangent}},
         deform::LaplacianWeights::mean_value);
 
-    const anim::RiggedModel m = io::load_model(model);
+    const anim::RiggedModel m = cli::load_model(model);
     const int mesh_index = integer(spec, "mesh", 0);
     if (mesh_index < 0 || mesh_index >= static_cast<int>(m.meshes.size()))
       bad("mesh", "no mesh " + std::to_string(mesh_index) + " (the model has " + std::to_string(m.meshes.size()) + ")");

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "algebra_demo.hpp"
+#include "cli_common.hpp"
 #include "model_commands.hpp"
 #include "render_command.hpp"
 #include "deform_command.hpp"
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
   CLI::App app{"cgamesh: animate, deform, cut, tear and drill rigged models in Conformal Geometric Algebra"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "cgamesh 0.1.0");
+  cgamesh::cli::add_load_timeout(app);
   cgamesh::cli::add_info(app);
   cgamesh::cli::add_pose(app);
   cgamesh::cli::add_convert(app);

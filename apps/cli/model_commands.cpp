@@ -40,7 +40,7 @@ struct InfoOptions {
 };
 
 void run_info(const InfoOptions& o) {
-  const anim::RiggedModel model = io::load_model(o.model);
+  const anim::RiggedModel model = cli::load_model(o.model);
   const auto rest = posed_positions(model, anim::rest_pose(model.skeleton), SkinningMode::matrix);
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
   Json meshes = Json::array();
@@ -98,7 +98,7 @@ struct PoseOptions {
 
 void run_pose(const PoseOptions& o) {
   if (!std::isfinite(o.time) || o.time < 0) throw InvalidInputError("--time must be a finite number >= 0");
-  const anim::RiggedModel model = io::load_model(o.model);
+  const anim::RiggedModel model = cli::load_model(o.model);
   std::vector<anim::JointEdit> edits;
   for (const std::string& s : o.sets) edits.push_back(parse_edit(model.skeleton, s));
   const int clip = o.bind_pose ? -1 : clip_index(model, o.anim);
@@ -137,7 +137,7 @@ struct ConvertOptions {
 };
 
 void run_convert(const ConvertOptions& o) {
-  const anim::RiggedModel model = io::load_model(o.model);
+  const anim::RiggedModel model = cli::load_model(o.model);
   io::write_gltf(model, o.output);
   if (o.json)
     std::cout << Json({{"output", o.output}, {"meshes", model.meshes.size()}, {"joints", model.skeleton.size()},
@@ -156,7 +156,7 @@ struct AnimateOptions {
 };
 
 void run_animate(const AnimateOptions& o) {
-  anim::RiggedModel model = io::load_model(o.model);
+  anim::RiggedModel model = cli::load_model(o.model);
   std::map<double, anim::Keyframe> by_time;
   for (const std::string& k : o.keys) {
     const std::size_t colon = k.find(':');

@@ -56,7 +56,7 @@ struct SurgeryCommand {
 
   [[nodiscard]] Scene load(bool with_index) const {
     Scene s;
-    s.model = io::load_model(model);
+    s.model = cli::load_model(model);
     const auto start = std::chrono::steady_clock::now();
     s.placement = surgery::place(s.model, placement.pose(s.model));
     if (with_index) s.index = surgery::SurfaceIndex::build(s.model, s.placement);

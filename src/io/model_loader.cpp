@@ -23,6 +23,7 @@
 #include "cgamesh/mesh/weld.hpp"
 
 #include "gltf_extras_reader.hpp"
+#include "preflight.hpp"
 
 namespace cgamesh::io {
 namespace {
@@ -291,6 +292,7 @@ class Loader {
 anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOptions& options) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw FileError("cannot read '" + path.string() + "': no such file");
+  detail::preflight(path);
   Assimp::Importer importer;
   // Vertices that agree in every attribute are joined once the model is read
   // (mesh::join_identical_vertices), not by Assimp's JoinIdenticalVertices: glTF's indexed
@@ -304,7 +306,9 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
     const std::string what = no_reader && !ext.empty() && importer.IsExtensionSupported(ext)
                                  ? "not a valid " + ext + " file (corrupt, truncated or of another format): "
                                  : std::string();
-    throw FileError("cannot load '" + path.string() + "': " + what + error);
+    throw FileError(
+        "cannot load '" + path.string() + "': " + what +
+        (error.empty() ? "the importer gave no reason (corrupt, truncated or unsupported content)" : error));
   }
   try {
     anim::RiggedModel model = Loader(*scene, options, path.parent_path()).run();

@@ -2,8 +2,6 @@
 // skinning mode, edits, conversion and keyframe generation, and bad input (exit codes, a
 // message on stderr, and no output file or temporary file left behind).
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -12,13 +10,15 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/io/model_loader.hpp"
 
 #include "anim/model_fixtures.hpp"
 #include "apps/cli_util.hpp"
 #include "support/js_oracles.hpp"
-#include "cgamesh/anim/rigged_model.hpp"
-#include "cgamesh/io/model_loader.hpp"
 
 namespace {
 
@@ -50,11 +50,10 @@ Points pose_obj(const TempDir& dir, const fs::path& model, const std::string& na
   run_ok(dir, args);
   EXPECT_TRUE(fs::exists(dir / name)) << name;
   std::string ext = fs::path(name).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext == ".ply" ? read_ply_vertices(dir / name) : read_obj_vertices(dir / name);
 }
-
-
 
 // ---- info -------------------------------------------------------------------------------------
 
@@ -251,7 +250,8 @@ TEST(CliAnimate, GeneratedClipIsWrittenAndValid) {
   EXPECT_LE(max_distance(start, bind), 1e-5 * diagonal(bind));
   EXPECT_GT(max_distance(end, bind), 1e-2 * diagonal(bind));
 
-  if (!cgamesh_test::validator_available()) GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
+  if (!cgamesh_test::validator_available())
+    GTEST_SKIP() << "node or tests/oracle/js/node_modules is missing (npm ci there)";
   std::string text;
   const int status = cgamesh_test::validate_gltf(out, text);
   EXPECT_EQ(status, 0) << text;
@@ -271,6 +271,32 @@ TEST(CliErrors, TruncatedGlbIsBadInput) {
     if (std::string(cmd) != "info") args.insert(args.end(), {"-o", out.string()});
     expect_failure(f, args, 3, "'" + (f.inputs / "truncated.glb").string() + "': not a valid .glb file", out);
   }
+}
+
+// Files on which Assimp's readers loop forever or allocate without bound are refused before
+// reading, and any reading that runs too long ends with exit 3.
+TEST(CliErrors, HangingOrOverdeclaredFilesAreBadInputAndLoadingHasATimeBudget) {
+  Failure f;
+  { std::ofstream(f.inputs / "t.smd") << "version 1\nnodes\n"; }
+  expect_failure(f, {"info", (f.inputs / "t.smd").string()}, 3, "section 'nodes' (line 2) has no 'end' line",
+                 f.outputs / "none");
+  {
+    std::ofstream(f.inputs / "big.ply")
+        << "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n0\n";
+  }
+  expect_failure(f, {"info", (f.inputs / "big.ply").string()}, 3, "declares 4000000000 'vertex' elements",
+                 f.outputs / "none");
+  {
+    std::ofstream(f.inputs / "open.md5mesh")
+        << "MD5Version 10\nnumJoints 1\njoints {\n\"root\" -1 ( 0 0 0 ) ( 0 0 0 )\n";
+  }
+  expect_failure(f, {"info", (f.inputs / "open.md5mesh").string()}, 3, "never closes", f.outputs / "none");
+  const fs::path out = f.outputs / "out.glb";
+  expect_failure(f, {"--load-timeout", "0.000001", "convert", cesium().string(), "-o", out.string()}, 3,
+                 "took longer than", out);
+  expect_failure(f, {"info", cesium().string(), "--load-timeout", "0.000001"}, 3, "allow more with --load-timeout",
+                 out);
+  expect_failure(f, {"info", cesium().string(), "--load-timeout", "-1"}, 2, "load-timeout", out);
 }
 
 TEST(CliErrors, TextFileNamedGlbIsBadInput) {
@@ -303,8 +329,8 @@ TEST(CliErrors, UnknownJointIsABadArgument) {
 TEST(CliErrors, NegativeScaleIsABadArgument) {
   Failure f;
   const fs::path out = f.outputs / "out.obj";
-  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":scale=-2"}, 2,
-                 "scale", out);
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":scale=-2"}, 2, "scale",
+                 out);
 }
 
 TEST(CliErrors, BadVectorIsABadArgument) {
@@ -312,8 +338,8 @@ TEST(CliErrors, BadVectorIsABadArgument) {
   const fs::path out = f.outputs / "out.obj";
   expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":rotate=1,2"}, 2,
                  "rotate", out);
-  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":translate=1,x,2"},
-                 2, "'x' is not a number", out);
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string(), "--set", busiest_joint() + ":translate=1,x,2"}, 2,
+                 "'x' is not a number", out);
 }
 
 TEST(CliErrors, UnknownSkinningModeIsABadArgument) {
@@ -358,8 +384,8 @@ TEST(CliErrors, NoOutputIsOverwrittenOnFailure) {
   Failure f;
   const fs::path out = f.outputs / "out.obj";
   { std::ofstream(out) << "previous"; }
-  const Result r = run_cli({"pose", cesium().string(), "-o", out.string(), "--set", "no_such_joint:scale=2"},
-                           f.inputs.path());
+  const Result r =
+      run_cli({"pose", cesium().string(), "-o", out.string(), "--set", "no_such_joint:scale=2"}, f.inputs.path());
   EXPECT_EQ(r.code, 2) << r;
   EXPECT_EQ(read_file(out), "previous");
   EXPECT_EQ(f.outputs.entries(), std::vector<std::string>{"out.obj"});
@@ -370,7 +396,9 @@ TEST(CliErrors, NoOutputIsOverwrittenOnFailure) {
 TEST(CliAlgebraDemo, JsonPointAndMatrixAgree) {
   TempDir dir;
   const Json j = parse_json(run_ok(dir, {"algebra-demo", "--json"}));
-  const auto vec = [](const Json& v) { return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); };
+  const auto vec = [](const Json& v) {
+    return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+  };
   ASSERT_TRUE(j.contains("point")) << j.dump(2);
   const Eigen::Vector3d cga = vec(j["point"]["cga"]), matrix = vec(j["point"]["matrix"]), in = vec(j["point"]["in"]);
   EXPECT_LE((cga - matrix).norm(), 1e-12);

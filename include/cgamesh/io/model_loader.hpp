@@ -14,12 +14,17 @@ struct LoadOptions {
 };
 
 /// Loads every triangle mesh, the node hierarchy (as the skeleton), skins and animation clips.
-/// Vertices are never merged: per-corner seams stay split. Skins keep the 4 largest influences
+/// glTF's vertices are kept as the file indexes them; other formats' vertices that agree in
+/// every attribute are joined (mesh::join_identical_vertices), so seams where a normal, UV or
+/// skin weight differs stay split. Before Assimp reads it, a file of a format whose reader
+/// can hang or allocate without bound is checked (SMD sections closed, MD5 braces balanced,
+/// PLY and MD5 counts within the file's size). Skins keep the 4 largest influences
 /// per vertex, renormalised to sum 1; non-uniform scales in bind data or keys are kept in the
 /// TRS data and approximated by their geometric mean in the versors. Each approximation adds a
 /// line to RiggedModel::warnings.
 /// @param[in] path  model file
-/// @throws FileError when the file is missing, unreadable, corrupt, or holds no triangle mesh.
+/// @throws FileError when the file is missing, unreadable, corrupt (also as found by the checks
+///         above, naming the line), or holds no triangle mesh.
 [[nodiscard]] anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace cgamesh::io
