@@ -49,7 +49,7 @@ void add_load_timeout(CLI::App& app) {
   app.fallthrough();
 }
 
-anim::RiggedModel load_model(const std::filesystem::path& path) {
+anim::RiggedModel load_model(const std::filesystem::path& path, bool print_warnings) {
   std::mutex mutex;
   std::condition_variable finished;
   bool done = false;
@@ -71,6 +71,9 @@ anim::RiggedModel load_model(const std::filesystem::path& path) {
   try {
     anim::RiggedModel model = io::load_model(path);
     stop();
+    if (print_warnings)
+      for (const std::string& w : model.warnings)
+        std::cerr << "cgamesh: warning: " << path.string() << ": " << w << "\n";
     return model;
   } catch (...) {
     stop();

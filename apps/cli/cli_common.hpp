@@ -61,9 +61,10 @@ inline double load_timeout_seconds = 120;
 /// Adds --load-timeout to `app` (given before or after the command).
 void add_load_timeout(CLI::App& app);
 
-/// io::load_model within load_timeout_seconds; past it, a message on stderr and exit 3.
+/// io::load_model within load_timeout_seconds; past it, a message on stderr and exit 3. The
+/// loader's warnings go to stderr unless the command prints them itself (`print_warnings`).
 /// @throws FileError as io::load_model does.
-[[nodiscard]] anim::RiggedModel load_model(const std::filesystem::path& path);
+[[nodiscard]] anim::RiggedModel load_model(const std::filesystem::path& path, bool print_warnings = true);
 
 /// True for a .glb or .gltf path (any case).
 [[nodiscard]] bool is_gltf_path(const std::filesystem::path& path);

@@ -24,6 +24,7 @@
 #include "cgamesh/io/atomic_file.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+
 #include "cli_common.hpp"
 
 namespace cgamesh::cli {
@@ -41,7 +42,8 @@ std::vector<double> numbers(const Json& j, std::size_t count, const std::string&
   if (!j.is_array() || j.size() != count) bad(field, "expected an array of " + std::to_string(count) + " numbers");
   std::vector<double> out;
   for (const Json& x : j) {
-    if (!x.is_number() || !std::isfinite(x.get<double>())) bad(field, "expected " + std::to_string(count) + " finite numbers");
+    if (!x.is_number() || !std::isfinite(x.get<double>()))
+      bad(field, "expected " + std::to_string(count) + " finite numbers");
     out.push_back(x.get<double>());
   }
   return out;
@@ -154,11 +156,12 @@ struct DeformCommand {
         bad(name, "unknown field (method, mesh, weights, handles, keys, basis, degree, ik)");
     enum class Method { spline, harmonic };
     if (!spec.contains("method")) bad("method", "missing (spline or harmonic)");
-    const Method method = choice<Method>(spec, "method", {{"spline", Method::spline}, {"harmonic", Method::harmonic}},
-                                         Method::spline);
+    const Method method =
+        choice<Method>(spec, "method", {{"spline", Method::spline}, {"harmonic", Method::harmonic}}, Method::spline);
     deform::HarmonicOptions harmonic;
     harmonic.weights = choice<deform::LaplacianWeights>(
-        spec, "weights", {{"mean_value", deform::LaplacianWeights::mean_value}, {"cotangent", deform::LaplacianWeights::cotangent}},
+        spec, "weights",
+        {{"mean_value", deform::LaplacianWeights::mean_value}, {"cotangent", deform::LaplacianWeights::cotangent}},
         deform::LaplacianWeights::mean_value);
 
     const anim::RiggedModel m = cli::load_model(model);
@@ -218,7 +221,8 @@ struct DeformCommand {
       bound = std::make_unique<deform::MotorBlend>(deform::bind_spline(target, handles[0], handles[1], rest, options));
     } else {
       if (handles.size() != keys.size())
-        bad("keys", std::to_string(keys.size()) + " keys for " + std::to_string(handles.size()) + " handles (one per handle)");
+        bad("keys",
+            std::to_string(keys.size()) + " keys for " + std::to_string(handles.size()) + " handles (one per handle)");
       bound = std::make_unique<deform::MotorBlend>(deform::bind_harmonic_handles(target, handles, rest, harmonic));
     }
     const double bind_ms = milliseconds_since(start_bind);
@@ -239,15 +243,16 @@ struct DeformCommand {
                     {"handle_vertices", handle_sizes},
                     {"keys", keys.size()},
                     {"bind_milliseconds", bind_ms},
-                    {"deform_milliseconds", deform_ms}};
+                    {"deform_milliseconds", deform_ms},
+                    {"warnings", m.warnings}};
     if (!ik_summary.is_null()) summary["ik"] = ik_summary;
     if (json) {
       std::cout << summary.dump(2) << "\n";
       return;
     }
-    std::cout << "deform " << model << " (" << summary["method"].get<std::string>() << ", " << keys.size()
-              << " keys, " << target.vertex_count() << " vertices): bind " << bind_ms << " ms, frame " << deform_ms
-              << " ms\n  -> " << output << "\n";
+    std::cout << "deform " << model << " (" << summary["method"].get<std::string>() << ", " << keys.size() << " keys, "
+              << target.vertex_count() << " vertices): bind " << bind_ms << " ms, frame " << deform_ms << " ms\n  -> "
+              << output << "\n";
     if (!ik_summary.is_null() && !ik_summary["reached"].get<bool>())
       std::cout << "  warning: the IK target is out of reach (" << ik_summary["distance"].get<double>() << " away)\n";
   }
@@ -257,9 +262,11 @@ struct DeformCommand {
 
 void add_deform(CLI::App& app) {
   auto c = std::make_shared<DeformCommand>();
-  auto* sub = app.add_subcommand("deform", "motor-handle deformation (spline-aligned or harmonic coordinates) from a JSON spec");
+  auto* sub = app.add_subcommand("deform",
+                                 "motor-handle deformation (spline-aligned or harmonic coordinates) from a JSON spec");
   sub->add_option("MESH", c->model, "model file (.obj, .ply, .glb, ...)")->required();
-  sub->add_option("--spec", c->spec_path, "SPEC.json: method, handles, keys (see README, Deformation specs)")->required();
+  sub->add_option("--spec", c->spec_path, "SPEC.json: method, handles, keys (see README, Deformation specs)")
+      ->required();
   sub->add_option("-o,--output", c->output, "OUT: .obj or .ply, every mesh of the model, the chosen one deformed")
       ->required();
   sub->add_flag("--json", c->json, "print a machine-readable summary");

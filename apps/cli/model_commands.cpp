@@ -1,7 +1,5 @@
 #include "model_commands.hpp"
 
-#include "cli_common.hpp"
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -23,6 +21,8 @@
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
 
+#include "cli_common.hpp"
+
 namespace cgamesh::cli {
 namespace {
 
@@ -40,7 +40,7 @@ struct InfoOptions {
 };
 
 void run_info(const InfoOptions& o) {
-  const anim::RiggedModel model = cli::load_model(o.model);
+  const anim::RiggedModel model = cli::load_model(o.model, false);
   const auto rest = posed_positions(model, anim::rest_pose(model.skeleton), SkinningMode::matrix);
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
   Json meshes = Json::array();
@@ -53,8 +53,11 @@ void run_info(const InfoOptions& o) {
       lo = lo.cwiseMin(rest[i].colwise().minCoeff().transpose());
       hi = hi.cwiseMax(rest[i].colwise().maxCoeff().transpose());
     }
-    meshes.push_back({{"name", m.name}, {"vertices", m.vertex_count()}, {"triangles", m.face_count()},
-                      {"skinned", !m.skin.empty()}, {"joints", m.skin.palette.size()}});
+    meshes.push_back({{"name", m.name},
+                      {"vertices", m.vertex_count()},
+                      {"triangles", m.face_count()},
+                      {"skinned", !m.skin.empty()},
+                      {"joints", m.skin.palette.size()}});
   }
   Json clips = Json::array();
   for (const anim::Clip& c : model.clips) clips.push_back({{"name", c.name}, {"duration", c.duration}});
@@ -80,8 +83,8 @@ void run_info(const InfoOptions& o) {
   std::cout << "  joints: " << model.skeleton.size() << "\n  animations: " << model.clips.size() << "\n";
   for (const auto& c : clips)
     std::cout << "    " << c["name"].get<std::string>() << ": " << c["duration"].get<double>() << " s\n";
-  std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: ["
-            << lo.transpose() << "] - [" << hi.transpose() << "]\n";
+  std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: [" << lo.transpose()
+            << "] - [" << hi.transpose() << "]\n";
   for (const auto& w : model.warnings) std::cout << "  warning: " << w << "\n";
 }
 
@@ -102,7 +105,8 @@ void run_pose(const PoseOptions& o) {
   std::vector<anim::JointEdit> edits;
   for (const std::string& s : o.sets) edits.push_back(parse_edit(model.skeleton, s));
   const int clip = o.bind_pose ? -1 : clip_index(model, o.anim);
-  anim::Pose pose = clip < 0 ? anim::rest_pose(model.skeleton) : anim::sample(model.skeleton, model.clips[clip], o.time, o.blend);
+  anim::Pose pose =
+      clip < 0 ? anim::rest_pose(model.skeleton) : anim::sample(model.skeleton, model.clips[clip], o.time, o.blend);
   anim::apply_edits(pose, edits);
   const auto positions = posed_positions(model, pose, o.skinning);
   if (is_gltf_path(o.output)) {
@@ -124,8 +128,11 @@ void run_pose(const PoseOptions& o) {
     io::write_mesh(model.meshes, positions, o.output);
   }
   if (o.json) {
-    Json out = {{"output", o.output}, {"animation", clip < 0 ? Json(nullptr) : Json(model.clips[clip].name)},
-                {"time", o.time}, {"meshes", model.meshes.size()}};
+    Json out = {{"output", o.output},
+                {"animation", clip < 0 ? Json(nullptr) : Json(model.clips[clip].name)},
+                {"time", o.time},
+                {"meshes", model.meshes.size()},
+                {"warnings", model.warnings}};
     std::cout << out.dump(2) << "\n";
   }
 }
@@ -140,8 +147,11 @@ void run_convert(const ConvertOptions& o) {
   const anim::RiggedModel model = cli::load_model(o.model);
   io::write_gltf(model, o.output);
   if (o.json)
-    std::cout << Json({{"output", o.output}, {"meshes", model.meshes.size()}, {"joints", model.skeleton.size()},
-                       {"animations", model.clips.size()}, {"warnings", model.warnings}})
+    std::cout << Json({{"output", o.output},
+                       {"meshes", model.meshes.size()},
+                       {"joints", model.skeleton.size()},
+                       {"animations", model.clips.size()},
+                       {"warnings", model.warnings}})
                      .dump(2)
               << "\n";
 }
@@ -168,11 +178,16 @@ void run_animate(const AnimateOptions& o) {
   }
   std::vector<anim::Keyframe> keyframes;
   for (auto& [t, kf] : by_time) keyframes.push_back(std::move(kf));
-  model.clips.push_back(anim::generate_clip(model.skeleton, keyframes, {.blend = o.blend, .fps = o.fps, .name = o.name}));
+  model.clips.push_back(
+      anim::generate_clip(model.skeleton, keyframes, {.blend = o.blend, .fps = o.fps, .name = o.name}));
   io::write_gltf(model, o.output);
   if (o.json)
-    std::cout << Json({{"output", o.output}, {"animation", o.name}, {"keyframes", keyframes.size()},
-                       {"duration", model.clips.back().duration}, {"channels", model.clips.back().channels.size()}})
+    std::cout << Json({{"output", o.output},
+                       {"animation", o.name},
+                       {"keyframes", keyframes.size()},
+                       {"duration", model.clips.back().duration},
+                       {"channels", model.clips.back().channels.size()},
+                       {"warnings", model.warnings}})
                      .dump(2)
               << "\n";
 }
@@ -181,7 +196,8 @@ void run_animate(const AnimateOptions& o) {
 
 void add_info(CLI::App& app) {
   auto o = std::make_shared<InfoOptions>();
-  CLI::App* sub = app.add_subcommand("info", "Meshes, joints, animations, influences, bounding box and warnings of a model");
+  CLI::App* sub =
+      app.add_subcommand("info", "Meshes, joints, animations, influences, bounding box and warnings of a model");
   sub->add_option("MODEL", o->model, "model file (any format Assimp reads)")->required();
   sub->add_flag("--json", o->json, "print a machine-readable summary");
   sub->callback([o] { run_info(*o); });
@@ -189,7 +205,8 @@ void add_info(CLI::App& app) {
 
 void add_pose(CLI::App& app) {
   auto o = std::make_shared<PoseOptions>();
-  CLI::App* sub = app.add_subcommand("pose", "Write the world-space posed geometry of all meshes (OBJ, PLY, or a static glTF)");
+  CLI::App* sub =
+      app.add_subcommand("pose", "Write the world-space posed geometry of all meshes (OBJ, PLY, or a static glTF)");
   sub->add_option("MODEL", o->model, "model file")->required();
   sub->add_option("-o,--output", o->output, "output file: .obj, .ply, .glb or .gltf")->required();
   sub->add_option("--anim", o->anim, "animation name or index (default: the first)");
@@ -221,9 +238,8 @@ void add_animate(CLI::App& app) {
   sub->add_option("--key", o->keys, "TIME:JOINT:rotate=AX,AY,AZ,DEG (or translate=X,Y,Z, scale=S); repeatable")
       ->required();
   sub->add_option("--blend", o->blend, "linear or log")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, BlendMode>{{"linear", BlendMode::linear},
-                                                                          {"log", BlendMode::log}},
-                                          CLI::ignore_case));
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, BlendMode>{{"linear", BlendMode::linear}, {"log", BlendMode::log}}, CLI::ignore_case));
   sub->add_option("--fps", o->fps, "frames per second of the generated clip")->capture_default_str();
   sub->add_option("--name", o->name, "name of the new clip")->capture_default_str();
   sub->add_flag("--json", o->json, "print a machine-readable summary");

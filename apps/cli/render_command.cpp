@@ -98,7 +98,7 @@ struct RenderCommand {
     const auto start = std::chrono::steady_clock::now();
     std::vector<anim::RiggedModel> loaded;
     loaded.reserve(models.size());
-    for (const std::string& path : models) loaded.push_back(cli::load_model(path));
+    for (const std::string& path : models) loaded.push_back(cli::load_model(path, false));
     std::vector<render::ModelInstance> instances;
     std::vector<std::string> warnings;
     for (std::size_t i = 0; i < loaded.size(); ++i)

@@ -91,7 +91,10 @@ struct SurgeryCommand {
                     {"predicates", euclidean ? "euclidean" : "cga"},
                     {"rest", rest_position}};
     for (const auto& [key, value] : fields.items()) summary[key] = value;
-    summary["warnings"] = warnings;
+    // The loader's too (already on stderr): what the file made cgamesh approximate.
+    std::vector<std::string> all = scene.model.warnings;
+    all.insert(all.end(), warnings.begin(), warnings.end());
+    summary["warnings"] = all;
     if (json) {
       std::cout << summary.dump(2) << "\n";
       return;

@@ -102,6 +102,29 @@ TEST(CliInfo, JsonWarningsOfTheFbx) {
   EXPECT_TRUE(influences) << j["warnings"].dump(2);
 }
 
+// Every command that loads a model says what the loader approximated: on stderr, and in --json.
+TEST(CliWarnings, EveryCommandReportsTheLoadersWarnings) {
+  if (!fs::exists(kFbx)) GTEST_SKIP() << kFbx << " is not installed (assimp-testmodels)";
+  TempDir dir;
+  const std::string joint(cgamesh::io::load_model(kFbx).skeleton.names()[0]);
+  const auto has_scale = [](const Json& warnings) {
+    return std::any_of(warnings.begin(), warnings.end(),
+                       [](const Json& w) { return contains(w.get<std::string>(), "non-uniform scale"); });
+  };
+  const std::vector<std::vector<std::string>> commands{
+      {"pose", kFbx.string(), "--time", "0.4", "-o", (dir.path() / "p.obj").string(), "--json"},
+      {"convert", kFbx.string(), "-o", (dir.path() / "c.glb").string(), "--json"},
+      {"animate", kFbx.string(), "--key", "0:" + joint + ":scale=1", "--key", "1:" + joint + ":scale=2", "-o",
+       (dir.path() / "a.glb").string(), "--json"}};
+  for (const auto& args : commands) {
+    SCOPED_TRACE(args[0]);
+    const Result r = run_cli(args, dir.path());
+    ASSERT_EQ(r.code, 0) << r;
+    EXPECT_TRUE(contains(r.err, "cgamesh: warning: " + kFbx.string() + ": ")) << r;
+    EXPECT_TRUE(has_scale(parse_json(r)["warnings"])) << r;
+  }
+}
+
 // ---- pose -------------------------------------------------------------------------------------
 
 TEST(CliPose, CgaAndMatrixSkinningWriteTheSameVertices) {
