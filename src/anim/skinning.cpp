@@ -22,8 +22,10 @@ using mesh::RowMatrixXf;
 int palette_joint(const Mesh& m, std::size_t k) { return m.skin.empty() ? m.node : m.skin.palette[k]; }
 std::size_t palette_size(const Mesh& m) { return m.skin.empty() ? 1 : m.skin.palette.size(); }
 
-Eigen::Matrix<float, 8, 1> dual_quaternion(const Eigen::Matrix4d& m) {
-  Eigen::Matrix3d r, s;
+/// The dual quaternion of m's rigid part and its scale/shear part: m = [R t] [S 0] with R a
+/// rotation and S symmetric (polar decomposition; a mirror goes into S).
+Eigen::Matrix<float, 8, 1> dual_quaternion(const Eigen::Matrix4d& m, Eigen::Matrix3d& s) {
+  Eigen::Matrix3d r;
   Eigen::Affine3d(m).computeRotationScaling(&r, &s);
   const Eigen::Quaterniond q(r);
   const Eigen::Vector3d t = m.topRightCorner<3, 1>();
@@ -31,6 +33,13 @@ Eigen::Matrix<float, 8, 1> dual_quaternion(const Eigen::Matrix4d& m) {
   Eigen::Matrix<float, 8, 1> out;
   out << q.coeffs().cast<float>(), (0.5 * d.coeffs()).cast<float>();
   return out;
+}
+
+/// The cofactor matrix det(L) L^-T: it maps normals of any invertible L.
+Eigen::Matrix3f cofactor(const Eigen::Matrix3f& l) {
+  Eigen::Matrix3f cof;
+  cof << l.col(1).cross(l.col(2)), l.col(2).cross(l.col(0)), l.col(0).cross(l.col(1));
+  return cof;
 }
 
 /// Influences of vertex i as (palette entry, weight); a static mesh has one of weight 1.
@@ -59,6 +68,13 @@ void blend_dual_quaternion(const Mesh& mesh, const SkinningPalette& p, Eigen::In
   const float n = b.head<4>().norm();
   q = Eigen::Quaternionf(b[3] / n, b[0] / n, b[1] / n, b[2] / n);
   d = Eigen::Quaternionf(b[7] / n, b[4] / n, b[5] / n, b[6] / n);
+}
+
+/// Kavan et al. 2008 two-phase skinning, first phase: Σ w S_n of vertex i (p.scales non-empty).
+Eigen::Matrix3f blend_scale(const Mesh& mesh, const SkinningPalette& p, Eigen::Index i) {
+  Eigen::Matrix3f s = Eigen::Matrix3f::Zero();
+  for_each_influence(mesh, i, [&](int k, float w) { s += w * p.scales[k]; });
+  return s;
 }
 
 /// Blended versor of vertex i, renormalised (versor skinning).
@@ -134,10 +150,16 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
       if (!mesh.skin.empty()) m = m * mesh.skin.inverse_bind[k];
       if (mode == SkinningMode::matrix)
         p.affine.push_back(m.topRows<3>().cast<float>());
-      else
-        p.dual_quats.push_back(dual_quaternion(m));
+      else {
+        Eigen::Matrix3d s;
+        p.dual_quats.push_back(dual_quaternion(m, s));
+        p.scales.push_back(s.cast<float>());
+      }
     }
   }
+  // Rigid joints: the first phase is the identity, skip it.
+  if (std::all_of(p.scales.begin(), p.scales.end(), [](const Eigen::Matrix3f& s) { return s.isIdentity(1e-6f); }))
+    p.scales.clear();
   // Without dilations every palette versor is a motor: blend 8 coefficients instead of 16.
   if (mode == SkinningMode::versor) {
     const bool rigid = std::all_of(p.versors.begin(), p.versors.end(), [](const cga::Versor<float>& v) {
@@ -175,7 +197,9 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
         Eigen::Quaternionf q, d;
         blend_dual_quaternion(mesh, p, i, q, d);
         const Eigen::Vector3f t = 2.0f * (d * q.conjugate()).vec();
-        out.row(i) = (q * Eigen::Vector3f(rest.row(i).transpose()) + t).transpose();
+        Eigen::Vector3f x = rest.row(i).transpose();
+        if (!p.scales.empty()) x = blend_scale(mesh, p, i) * x;
+        out.row(i) = (q * x + t).transpose();
       }
       return;
   }
@@ -207,10 +231,7 @@ RowMatrixXf<3> skin_normals(const Mesh& mesh, const SkinningPalette& p, int thre
         for (Eigen::Index i = begin; i < end; ++i) {
           Eigen::Matrix3f l = Eigen::Matrix3f::Zero();
           for_each_influence(mesh, i, [&](int k, float w) { l += w * p.affine[k].leftCols<3>(); });
-          // The cofactor matrix det(L) L^-T maps normals of any invertible L.
-          Eigen::Matrix3f cof;
-          cof << l.col(1).cross(l.col(2)), l.col(2).cross(l.col(0)), l.col(0).cross(l.col(1));
-          out.row(i) = (cof * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
+          out.row(i) = (cofactor(l) * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
         }
         break;
       case SkinningMode::versor:
@@ -223,7 +244,9 @@ RowMatrixXf<3> skin_normals(const Mesh& mesh, const SkinningPalette& p, int thre
         for (Eigen::Index i = begin; i < end; ++i) {
           Eigen::Quaternionf q, d;
           blend_dual_quaternion(mesh, p, i, q, d);
-          out.row(i) = (q * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
+          Eigen::Vector3f n = mesh.normals.row(i).transpose();
+          if (!p.scales.empty()) n = cofactor(blend_scale(mesh, p, i)) * n;
+          out.row(i) = (q * n).transpose();
         }
         break;
     }

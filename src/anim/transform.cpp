@@ -29,6 +29,9 @@ Transform Transform::from_matrix(const Eigen::Matrix4d& m) {
   const Eigen::Matrix3d a = m.topLeftCorner<3, 3>();
   const double det = a.determinant();
   if (!(std::abs(det) > 1e-300)) throw InvalidInputError("transform matrix is singular (zero scale)");
+  // The polar decomposition of a mirror has a non-diagonal scale part: no TRS holds it.
+  if (det < 0)
+    throw InvalidInputError("transform matrix mirrors (negative determinant); a versor cannot hold a reflection");
   Eigen::Matrix3d r, s;
   Eigen::Affine3d(m).computeRotationScaling(&r, &s);
   Transform t;

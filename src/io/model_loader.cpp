@@ -38,6 +38,24 @@ Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
   return e;
 }
 
+// Mirrors. Versors are even: they cannot hold a reflection. A node whose matrix mirrors
+// (negative determinant) is made proper by the reflection F = diag(1, 1, -1) pushed down the
+// tree: with m_i the parity of mirrors on the path to node i (itself included) and c_i that of
+// its parent, the local L_i becomes L'_i = F^c_i L_i F^m_i, so that G'_i = G_i F^m_i, proper
+// everywhere. A mesh then gets its data reflected where that keeps its maps proper: a static
+// mesh on a mirrored node, and a skinned mesh whose inverse binds B_j (made F^m_j B_j F^s) need
+// it; reflected data gets its triangles' winding reversed so that faces keep their outside.
+const Eigen::DiagonalMatrix<double, 4> kMirror(1, 1, -1, 1);
+
+bool mirrors(const Eigen::Matrix4d& m) { return m.topLeftCorner<3, 3>().determinant() < 0; }
+
+/// Reflects a mesh's data by F: positions and normals, and the winding of its triangles.
+void reflect(mesh::Mesh& m) {
+  m.positions.col(2) *= -1;
+  if (m.normals.rows() > 0) m.normals.col(2) *= -1;
+  m.faces.col(1).swap(m.faces.col(2));
+}
+
 std::string describe(const Eigen::Vector3d& s) {
   return std::to_string(s.x()) + ", " + std::to_string(s.y()) + ", " + std::to_string(s.z());
 }
@@ -49,13 +67,43 @@ class Loader {
 
   anim::RiggedModel run() {
     collect_nodes(scene_.mRootNode, -1);
-    std::vector<int> remap;
-    model_.skeleton = anim::Skeleton::build(editable_, &remap);
-    for (const auto& [node, mesh_index] : mesh_refs_) add_mesh(*scene_.mMeshes[mesh_index], remap[node], remap);
+    model_.skeleton = anim::Skeleton::build(editable_, &remap_);
+    for (const auto& [node, mesh_index] : mesh_refs_) add_mesh(*scene_.mMeshes[mesh_index], node);
     if (model_.meshes.empty()) throw FileError("the file holds no triangle mesh");
     for (unsigned i = 0; i < scene_.mNumMaterials; ++i) add_material(*scene_.mMaterials[i]);
-    for (unsigned a = 0; a < scene_.mNumAnimations; ++a) add_clip(*scene_.mAnimations[a], a, remap);
+    for (unsigned a = 0; a < scene_.mNumAnimations; ++a) add_clip(*scene_.mAnimations[a], a);
     return std::move(model_);
+  }
+
+  /// Conjugates by F the keys of the joints below a mirror, as their rests are (see kMirror);
+  /// run once the clips are final (a glTF file's are read again by read_gltf_extras).
+  /// @throws FileError for a mirrored joint that a clip rotates or scales.
+  void conjugate_keys(anim::RiggedModel& model) const {
+    std::vector<bool> below(model.skeleton.size(), false), own(model.skeleton.size(), false);
+    for (std::size_t e = 0; e < editable_.joints.size(); ++e) {
+      const auto j = static_cast<std::size_t>(remap_[e]);
+      const int parent = editable_.joints[e].parent;
+      below[j] = parent >= 0 && mirrored_[static_cast<std::size_t>(parent)];
+      own[j] = own_mirror_[e];
+    }
+    for (anim::Clip& clip : model.clips)
+      for (Channel& ch : clip.channels) {
+        const auto j = static_cast<std::size_t>(ch.joint);
+        if (own[j] && ch.path != ChannelPath::translation)
+          throw FileError("node '" + model.skeleton.names()[j] + "' mirrors (negative determinant) and clip '" +
+                          clip.name + "' rotates or scales it; cgamesh cannot represent that");
+        if (!below[j] || ch.path == ChannelPath::scale) continue;  // F S F = S for a diagonal S
+        // F T F translates by F t; F R F turns about the reflected axis by the opposite angle.
+        const std::size_t n = static_cast<std::size_t>(ch.components());
+        for (std::size_t k = 0; k < ch.values.size(); k += n) {
+          if (ch.path == ChannelPath::translation) {
+            ch.values[k + 2] = -ch.values[k + 2];
+          } else {
+            ch.values[k] = -ch.values[k];
+            ch.values[k + 1] = -ch.values[k + 1];
+          }
+        }
+      }
   }
 
  private:
@@ -65,7 +113,14 @@ class Loader {
     j.name = node->mName.C_Str();
     if (j.name.empty()) j.name = "node" + std::to_string(index);
     j.parent = parent;
-    j.rest = Transform::from_matrix(to_eigen(node->mTransformation));
+    const bool under_mirror = parent >= 0 && mirrored_[static_cast<std::size_t>(parent)];
+    Eigen::Matrix4d local = to_eigen(node->mTransformation);
+    const bool own_mirror = mirrors(local);
+    if (under_mirror) local = kMirror * local;
+    if (mirrors(local)) local = local * kMirror;
+    mirrored_.push_back(under_mirror != own_mirror);
+    own_mirror_.push_back(own_mirror);
+    j.rest = Transform::from_matrix(local);
     if (!j.rest.is_uniform())
       warn("node '" + j.name + "' has non-uniform scale (" + describe(j.rest.scale) +
            "); its versor uses the geometric mean " + std::to_string(j.rest.uniform_scale()));
@@ -75,7 +130,8 @@ class Loader {
     for (unsigned c = 0; c < node->mNumChildren; ++c) collect_nodes(node->mChildren[c], index);
   }
 
-  void add_mesh(const aiMesh& in, int node, const std::vector<int>& remap) {
+  /// @param node  editable index of the node holding the mesh
+  void add_mesh(const aiMesh& in, int node) {
     if ((in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0 || in.mNumFaces == 0) return;
     mesh::Mesh m;
     m.name = in.mName.length > 0 ? in.mName.C_Str() : "mesh" + std::to_string(model_.meshes.size());
@@ -100,24 +156,34 @@ class Loader {
     m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
     for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
     if (in.mMaterialIndex < scene_.mNumMaterials) m.material = static_cast<int>(in.mMaterialIndex);
-    if (in.HasBones()) add_skin(in, m, remap);
-    m.node = node;
+    if (in.HasBones() ? add_skin(in, m) : mirrored_[static_cast<std::size_t>(node)]) reflect(m);
+    m.node = remap_[static_cast<std::size_t>(node)];
     model_.meshes.push_back(std::move(m));
   }
 
-  void add_skin(const aiMesh& in, mesh::Mesh& m, const std::vector<int>& remap) {
+  /// Returns whether the mesh's data must be reflected (see kMirror).
+  bool add_skin(const aiMesh& in, mesh::Mesh& m) {
     const Eigen::Index nv = in.mNumVertices;
     if (in.mNumBones > 65536)
       throw FileError("mesh '" + m.name + "' is bound to " + std::to_string(in.mNumBones) +
                       " bones; at most 65536 are supported");
     std::vector<std::vector<mesh::Influence>> influences(nv);
+    int reflected = -1;  // unknown until the first bone
     for (unsigned b = 0; b < in.mNumBones; ++b) {
       const aiBone& bone = *in.mBones[b];
       const auto it = by_name_.find(bone.mName.C_Str());
       if (it == by_name_.end())
         throw FileError("mesh '" + m.name + "' is bound to bone '" + bone.mName.C_Str() + "', which is not a node");
-      m.skin.palette.push_back(remap[it->second]);
-      const Eigen::Matrix4d ibm = to_eigen(bone.mOffsetMatrix);
+      m.skin.palette.push_back(remap_[static_cast<std::size_t>(it->second)]);
+      Eigen::Matrix4d ibm = to_eigen(bone.mOffsetMatrix);
+      const bool joint_mirrored = mirrored_[static_cast<std::size_t>(it->second)];
+      if (joint_mirrored) ibm = kMirror * ibm;
+      const int reflect_data = mirrors(ibm) ? 1 : 0;
+      if (reflected >= 0 && reflect_data != reflected)
+        throw FileError("mesh '" + m.name + "' is bound to bones on both sides of a mirror (bone '" +
+                        bone.mName.C_Str() + "'); cgamesh cannot represent that");
+      reflected = reflect_data;
+      if (reflect_data != 0) ibm = ibm * kMirror;
       const Transform t = Transform::from_matrix(ibm);
       if (!t.is_uniform())
         warn("inverse bind matrix of bone '" + std::string(bone.mName.C_Str()) + "' has non-uniform scale (" +
@@ -151,6 +217,7 @@ class Loader {
     if (unweighted > 0)
       warn("mesh '" + m.name + "': " + std::to_string(unweighted) + " vertices had no weights; bound to bone '" +
            std::string(in.mBones[0]->mName.C_Str()) + "'");
+    return reflected == 1;
   }
 
   void add_material(const aiMaterial& in) {
@@ -221,7 +288,7 @@ class Loader {
     return texture_of_path_[path] = static_cast<int>(model_.textures.size()) - 1;
   }
 
-  void add_clip(const aiAnimation& in, unsigned index, const std::vector<int>& remap) {
+  void add_clip(const aiAnimation& in, unsigned index) {
     anim::Clip clip;
     clip.name = in.mName.length > 0 ? in.mName.C_Str() : "clip" + std::to_string(index);
     const double tps = in.mTicksPerSecond > 0 ? in.mTicksPerSecond : options_.default_ticks_per_second;
@@ -233,7 +300,7 @@ class Loader {
         warn("clip '" + clip.name + "' animates unknown node '" + na.mNodeName.C_Str() + "'; ignored");
         continue;
       }
-      const int joint = remap[it->second];
+      const int joint = remap_[static_cast<std::size_t>(it->second)];
       add_channel(clip, joint, ChannelPath::translation, na.mPositionKeys, na.mNumPositionKeys, tps);
       add_channel(clip, joint, ChannelPath::rotation, na.mRotationKeys, na.mNumRotationKeys, tps);
       add_channel(clip, joint, ChannelPath::scale, na.mScalingKeys, na.mNumScalingKeys, tps);
@@ -284,6 +351,9 @@ class Loader {
   anim::EditableSkeleton editable_;
   std::map<std::string, int> by_name_;
   std::vector<std::pair<int, unsigned>> mesh_refs_;
+  std::vector<int> remap_;        ///< editable node -> skeleton joint
+  std::vector<bool> mirrored_;    ///< per editable node: m_i, parity of mirrors down to it (see kMirror)
+  std::vector<bool> own_mirror_;  ///< per editable node: its own matrix mirrors
   anim::RiggedModel model_;
 };
 
@@ -311,11 +381,13 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
         (error.empty() ? "the importer gave no reason (corrupt, truncated or unsupported content)" : error));
   }
   try {
-    anim::RiggedModel model = Loader(*scene, options, path.parent_path()).run();
+    Loader loader(*scene, options, path.parent_path());
+    anim::RiggedModel model = loader.run();
     if (detail::is_gltf(path))
       detail::read_gltf_extras(path, model);
     else
       for (mesh::Mesh& m : model.meshes) mesh::join_identical_vertices(m);
+    loader.conjugate_keys(model);
     return model;
   } catch (const FileError&) {
     throw;

@@ -1,13 +1,14 @@
 #include "cgamesh/anim/skinning.hpp"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
 
-#include "anim/model_fixtures.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
+
+#include "anim/model_fixtures.hpp"
 
 namespace {
 
@@ -30,9 +31,7 @@ mesh::RowMatrixXf<3> run(const mesh::Mesh& mesh, const Posed& p, SkinningMode mo
 double max_distance(const mesh::RowMatrixXf<3>& a, const mesh::RowMatrixXf<3>& b) {
   return (a - b).rowwise().norm().maxCoeff();
 }
-double diagonal(const mesh::RowMatrixXf<3>& a) {
-  return (a.colwise().maxCoeff() - a.colwise().minCoeff()).norm();
-}
+double diagonal(const mesh::RowMatrixXf<3>& a) { return (a.colwise().maxCoeff() - a.colwise().minCoeff()).norm(); }
 
 std::vector<std::filesystem::path> rigged_models() {
   auto models = cgamesh_test::gltf_samples();
@@ -98,6 +97,54 @@ TEST(Skinning, DilationScalesTheBoneRegionUniformly) {
   }
 }
 
+// Dual quaternions hold no scale: joint scale goes first (Kavan et al. 2008), so on a rigid
+// pose under one uniform scale every vertex whose joints agree lands where matrix LBS puts it,
+// and a scaled rig keeps its size.
+TEST(Skinning, DualQuaternionsKeepJointScale) {
+  const anim::RiggedModel m = io::load_model(cgamesh_test::demo_model());
+  const mesh::Mesh& mesh = m.meshes[0];
+  anim::Pose pose = anim::sample(m.skeleton, m.clips[0], 0.5, anim::BlendMode::format);
+  const anim::JointEdit edit{.joint = 0, .scale = 1.7};
+  anim::apply_edits(pose, std::span(&edit, 1));
+  const Posed p = posed(m, pose);
+  const auto matrix = run(mesh, p, SkinningMode::matrix), dqs = run(mesh, p, SkinningMode::dqs);
+  const double diag = diagonal(matrix);
+  int single = 0;
+  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
+    if (mesh.skin.weights(v, 0) == 1.0f) {
+      ++single;
+      ASSERT_LE((dqs.row(v) - matrix.row(v)).norm(), 1e-5 * diag) << v;
+    }
+  EXPECT_GT(single, 100);
+  EXPECT_NEAR(diagonal(dqs) / diag, 1.0, 0.02);
+
+  // The bind pose under the same scale: every vertex, blended or not.
+  anim::Pose bind = anim::rest_pose(m.skeleton);
+  anim::apply_edits(bind, std::span(&edit, 1));
+  const Posed b = posed(m, bind);
+  EXPECT_LE(max_distance(run(mesh, b, SkinningMode::dqs), run(mesh, b, SkinningMode::matrix)),
+            1e-5 * diagonal(run(mesh, b, SkinningMode::matrix)));
+}
+
+// FBX rigs scale their joints (centimetre units): dqs came out half (huesitos) or a tenth
+// (animation_with_skeleton) of the size matrix skinning gives.
+TEST(Skinning, DualQuaternionsKeepTheSizeOfScaledFbxRigs) {
+  for (const auto& [file, time] : {std::pair{"FBX/huesitos.fbx", 0.4}, {"FBX/animation_with_skeleton.fbx", 0.5}}) {
+    const auto path = cgamesh_test::assimp_model(file);
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not installed";
+    SCOPED_TRACE(file);
+    const anim::RiggedModel m = io::load_model(path);
+    const anim::Pose pose = m.clips.empty() ? anim::rest_pose(m.skeleton)
+                                            : anim::sample(m.skeleton, m.clips[0], time, anim::BlendMode::format);
+    const Posed p = posed(m, pose);
+    for (const mesh::Mesh& mesh : m.meshes) {
+      if (mesh.skin.empty()) continue;
+      const double ratio = diagonal(run(mesh, p, SkinningMode::dqs)) / diagonal(run(mesh, p, SkinningMode::matrix));
+      EXPECT_NEAR(ratio, 1.0, 0.1) << mesh.name;
+    }
+  }
+}
+
 TEST(Skinning, ThreadedJobsEqualOneJob) {
   const anim::RiggedModel m = io::load_model(cgamesh_test::demo_model());
   const Posed p = posed(m, anim::sample(m.skeleton, m.clips[0], 0.5, anim::BlendMode::format));
@@ -134,7 +181,8 @@ TEST(SkinNormals, RigidVerticesTurnWithTheirJointInEveryMode) {
       ++rigid;
       // One influence: the normal turns by that joint's rotation, M_n B_n.
       const std::size_t k = m.skin.joints(v, 0);
-      const Eigen::Matrix3d r = (p.gm[static_cast<std::size_t>(m.skin.palette[k])] * m.skin.inverse_bind[k]).topLeftCorner<3, 3>();
+      const Eigen::Matrix3d r =
+          (p.gm[static_cast<std::size_t>(m.skin.palette[k])] * m.skin.inverse_bind[k]).topLeftCorner<3, 3>();
       const Eigen::Vector3d expected = (r * m.normals.row(v).transpose().cast<double>()).normalized();
       ASSERT_LT((n.row(v).transpose().cast<double>() - expected).norm(), 1e-4) << static_cast<int>(mode) << " " << v;
     }

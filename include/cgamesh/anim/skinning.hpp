@@ -7,7 +7,8 @@
 //   versor - blend the versors sum_n w (M_n B_n), renormalise, one sandwich: the CGA analogue of
 //            dual-quaternion skinning, which also carries dilations.
 //   matrix - 4x4 linear blend skinning (eq. 16), the baseline.
-//   dqs    - dual-quaternion skinning (rigid part of each joint), the baseline.
+//   dqs    - dual-quaternion skinning, the baseline; joint scale and shear are blended linearly
+//            and applied first (Kavan et al. 2008), so scaled rigs keep their size.
 
 #include <span>
 #include <vector>
@@ -29,6 +30,9 @@ struct SkinningPalette {
   std::vector<cga::Versor<float>> versors;             ///< versor: M_n B_n
   std::vector<cga::Motor<float>> motors;               ///< versor, when no joint dilates: M_n B_n
   std::vector<Eigen::Matrix<float, 8, 1>> dual_quats;  ///< dqs: real (x y z w), dual (x y z w)
+  /// dqs: scale/shear S_n of each M_n B_n = [R t] S_n, applied before the dual quaternions
+  /// (Kavan et al. 2008, two-phase skinning); empty when every joint is rigid.
+  std::vector<Eigen::Matrix3f> scales;
 };
 
 /// Builds the palette of `mesh` for one frame. A mesh without a skin follows its node.
@@ -56,7 +60,8 @@ void skin_range(const mesh::Mesh& mesh, const SkinningPalette& palette, Eigen::I
 /// the linear part of each vertex's blended transform: cga, matrix — the cofactor of Σ w Aₙ
 /// (exact for any invertible map, non-uniform scale included); versor — the blended versor's
 /// sandwich of the Euclidean vector n (a dilator leaves directions unchanged); dqs — the
-/// blended rotation. A degenerate result (zero blended map) keeps the rest normal.
+/// cofactor of the blended scale, then the blended rotation. A degenerate result (zero blended map) keeps the rest
+/// normal.
 /// @param[in] palette  make_palette(mesh, ...) in any mode
 [[nodiscard]] mesh::RowMatrixXf<3> skin_normals(const mesh::Mesh& mesh, const SkinningPalette& palette,
                                                 int threads = 0);

@@ -24,8 +24,9 @@ struct Transform {
   /// The versor T R D(uniform_scale()) (eq. 10, 8, 12 composed as in eq. 14).
   [[nodiscard]] cga::Versor<double> versor() const;
 
-  /// Splits a 4x4 affine matrix into TRS (polar decomposition; a mirror goes into the scale).
-  /// @throws InvalidInputError for a singular or non-finite matrix.
+  /// Splits a 4x4 affine matrix into TRS (polar decomposition).
+  /// @throws InvalidInputError for a singular, mirroring (negative determinant) or non-finite
+  ///         matrix; the loader makes mirrored nodes proper before (io/model_loader.hpp).
   [[nodiscard]] static Transform from_matrix(const Eigen::Matrix4d& m);
   /// The TRS of a similarity versor.
   [[nodiscard]] static Transform from_versor(const cga::Versor<double>& v);

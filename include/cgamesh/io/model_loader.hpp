@@ -21,7 +21,12 @@ struct LoadOptions {
 /// PLY and MD5 counts within the file's size). Skins keep the 4 largest influences
 /// per vertex, renormalised to sum 1; non-uniform scales in bind data or keys are kept in the
 /// TRS data and approximated by their geometric mean in the versors. Each approximation adds a
-/// line to RiggedModel::warnings.
+/// line to RiggedModel::warnings. Mirrored nodes (negative determinant, e.g. a .x root frame
+/// swapping Y and Z) are made proper: the reflection is pushed down the tree into conjugated
+/// child transforms and keys, inverse binds and, where needed, the mesh data (reflected, with
+/// triangle winding reversed), so world positions are the file's and every versor is even.
+/// Only a mirrored node that a clip rotates or scales, or a mesh bound to joints on both sides
+/// of a mirror, cannot be represented: FileError naming the node or mesh.
 /// @param[in] path  model file
 /// @throws FileError when the file is missing, unreadable, corrupt (also as found by the checks
 ///         above, naming the line), or holds no triangle mesh.
