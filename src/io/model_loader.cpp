@@ -60,6 +60,25 @@ std::string describe(const Eigen::Vector3d& s) {
   return std::to_string(s.x()) + ", " + std::to_string(s.y()) + ", " + std::to_string(s.z());
 }
 
+/// A scale key that flattens (a zero factor) or mirrors (negative product) has no versor: the
+/// file is broken for every command, not only for those that pose it.
+/// @throws FileError naming the clip, joint and time.
+void check_scale_keys(const anim::RiggedModel& model) {
+  for (const anim::Clip& clip : model.clips)
+    for (const Channel& ch : clip.channels) {
+      if (ch.path != ChannelPath::scale) continue;
+      const std::size_t stride = ch.interpolation == anim::Interpolation::cubic_spline ? 9 : 3;
+      const std::size_t offset = ch.interpolation == anim::Interpolation::cubic_spline ? 3 : 0;
+      for (std::size_t k = 0; k < ch.times.size() && (k + 1) * stride <= ch.values.size(); ++k) {
+        const Eigen::Vector3d v(ch.values.data() + k * stride + offset);
+        if (!(std::abs(v.prod()) > 1e-300) || v.prod() < 0)
+          throw FileError("clip '" + clip.name + "' scales joint '" + model.skeleton.names()[ch.joint] + "' by (" +
+                          describe(v) + ") at t = " + std::to_string(ch.times[k]) +
+                          ": a zero or mirroring scale has no versor");
+      }
+    }
+}
+
 class Loader {
  public:
   Loader(const aiScene& scene, const LoadOptions& options, std::filesystem::path directory)
@@ -361,6 +380,7 @@ class Loader {
 
 anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOptions& options) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw FileError("cannot read '" + path.string() + "': is a directory");
   if (!std::filesystem::is_regular_file(path, ec)) throw FileError("cannot read '" + path.string() + "': no such file");
   detail::preflight(path);
   Assimp::Importer importer;
@@ -387,6 +407,7 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
       detail::read_gltf_extras(path, model);
     else
       for (mesh::Mesh& m : model.meshes) mesh::join_identical_vertices(m);
+    check_scale_keys(model);
     loader.conjugate_keys(model);
     return model;
   } catch (const FileError&) {

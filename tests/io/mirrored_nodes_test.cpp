@@ -17,6 +17,7 @@
 #include "cgamesh/io/model_loader.hpp"
 
 #include "anim/model_fixtures.hpp"
+#include "support/gltf_edit.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -34,18 +35,9 @@ Eigen::Matrix4d mirror_matrix() {
   return m;
 }
 
-/// Images stay in their buffer views, undecoded.
-bool keep_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
-  return true;
-}
-
 /// `in` (.glb) with a new root node holding `mirror` above every root of its scene.
 fs::path with_mirror_root(const fs::path& in, const fs::path& out, const Eigen::Matrix4d& mirror) {
-  tinygltf::TinyGLTF gltf;
-  gltf.SetImageLoader(&keep_image, nullptr);
-  tinygltf::Model m;
-  std::string err, warn;
-  EXPECT_TRUE(gltf.LoadBinaryFromFile(&m, &err, &warn, in.string())) << err;
+  tinygltf::Model m = cgamesh_test::read_glb(in);
   tinygltf::Node root;
   root.name = "mirror";
   for (int c = 0; c < 4; ++c)
@@ -54,8 +46,7 @@ fs::path with_mirror_root(const fs::path& in, const fs::path& out, const Eigen::
   root.children = scene.nodes;
   m.nodes.push_back(root);
   scene.nodes = {static_cast<int>(m.nodes.size()) - 1};
-  EXPECT_TRUE(gltf.WriteGltfSceneToFile(&m, out.string(), true, true, true, true));
-  return out;
+  return cgamesh_test::write_glb(std::move(m), out);
 }
 
 /// World positions of every mesh, in `mode`.
@@ -146,17 +137,13 @@ TEST(MirroredNodes, DirectXRootFrameSwappingAxesLoads) {
 TEST(MirroredNodes, RotatedMirrorNodeIsAnErrorNamingIt) {
   cgamesh_test::TempDir dir;
   const fs::path file = with_mirror_root(cgamesh_test::demo_model(), dir / "mirrored.glb", mirror_matrix());
-  tinygltf::TinyGLTF gltf;
-  gltf.SetImageLoader(&keep_image, nullptr);
-  tinygltf::Model m;
-  std::string err, warn;
-  ASSERT_TRUE(gltf.LoadBinaryFromFile(&m, &err, &warn, file.string())) << err;
+  tinygltf::Model m = cgamesh_test::read_glb(file);
   for (tinygltf::AnimationChannel& c : m.animations[0].channels)
     if (c.target_path == "rotation") {
       c.target_node = static_cast<int>(m.nodes.size()) - 1;  // the mirror root
       break;
     }
-  ASSERT_TRUE(gltf.WriteGltfSceneToFile(&m, (dir / "rotated.glb").string(), true, true, true, true));
+  (void)cgamesh_test::write_glb(std::move(m), dir / "rotated.glb");
   try {
     (void)io::load_model(dir / "rotated.glb");
     FAIL() << "loaded";

@@ -11,6 +11,8 @@
 #include "cgamesh/errors.hpp"
 
 #include "anim/model_fixtures.hpp"
+#include "support/gltf_edit.hpp"
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -147,6 +149,40 @@ TEST(ModelLoader, BadFilesThrowFileError) {
   }
   EXPECT_THROW((void)io::load_model(truncated), FileError);
   fs::remove_all(dir);
+}
+
+// A zero scale key (a byte flip in a real file) is a broken file when loading, whatever the
+// command does with the clip afterwards; a directory is named as one.
+TEST(ModelLoader, ZeroScaleKeyAndDirectoryAreNamed) {
+  cgamesh_test::TempDir dir;
+  tinygltf::Model m = cgamesh_test::read_glb(cgamesh_test::demo_model());
+  bool zeroed = false;
+  for (const tinygltf::AnimationChannel& c : m.animations[0].channels) {
+    if (c.target_path != "scale") continue;
+    const tinygltf::Accessor& a =
+        m.accessors[static_cast<std::size_t>(m.animations[0].samplers[static_cast<std::size_t>(c.sampler)].output)];
+    const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    float* key = reinterpret_cast<float*>(m.buffers[static_cast<std::size_t>(v.buffer)].data.data() + v.byteOffset +
+                                          a.byteOffset);
+    key[1] = 0;  // the first key's y factor
+    zeroed = true;
+    break;
+  }
+  ASSERT_TRUE(zeroed) << "CesiumMan has no scale channel";
+  const fs::path file = cgamesh_test::write_glb(std::move(m), dir / "zero_scale.glb");
+  try {
+    (void)io::load_model(file);
+    FAIL() << "loaded";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("a zero or mirroring scale has no versor"), std::string::npos) << e.what();
+  }
+  fs::create_directories(dir / "model.glb");
+  try {
+    (void)io::load_model(dir / "model.glb");
+    FAIL() << "loaded";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
