@@ -8,7 +8,8 @@ namespace cgamesh::io::detail {
 
 /// Checks the structure of the text formats whose readers can hang (SMD: every section ends
 /// with "end"; MD5: braces balance) and the counts a header declares against the file's size
-/// (PLY elements, MD5 joints, meshes, vertices, triangles and weights).
+/// (PLY elements, MD5 joints, meshes, vertices, triangles and weights; GLB total and chunk
+/// lengths).
 /// @throws FileError naming the file, the problem and its line.
 void preflight(const std::filesystem::path& path);
 
