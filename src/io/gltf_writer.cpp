@@ -218,6 +218,9 @@ class Builder {
     if (!m.uvs.allFinite()) invalid(label + " has NaN or infinite texture coordinates");
     if (m.faces.size() > 0 && (m.faces.minCoeff() < 0 || m.faces.maxCoeff() >= nv))
       invalid(label + " has a face index outside [0, " + std::to_string(nv) + ")");
+    if (m.face_materials.rows() != 0 && m.face_materials.rows() != m.face_count())
+      invalid(label + " has " + std::to_string(m.face_materials.rows()) + " face materials for " +
+              std::to_string(m.face_count()) + " faces");
 
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
@@ -236,14 +239,29 @@ class Builder {
       prim.attributes[detail::kGeneratedAttribute] = add_float_accessor(
           flags.data(), static_cast<std::size_t>(nv), 1, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER, false);
     }
-    prim.material = material_of(m);
     int skin = -1;
     if (!m.skin.empty()) skin = add_skin(m, prim, label);
-    prim.indices = add_indices(m);
 
+    // One primitive per material, in order of first use, all over the same vertex accessors.
+    std::vector<int> materials;
+    std::vector<std::vector<int>> faces_of;
+    std::map<int, std::size_t> group;
+    for (Eigen::Index f = 0; f < m.face_count(); ++f) {
+      const auto [it, added] = group.try_emplace(m.face_material(f), materials.size());
+      if (added) {
+        materials.push_back(it->first);
+        faces_of.emplace_back();
+      }
+      faces_of[it->second].push_back(static_cast<int>(f));
+    }
     tinygltf::Mesh gmesh;
     gmesh.name = m.name;
-    gmesh.primitives.push_back(std::move(prim));
+    for (std::size_t g = 0; g < materials.size(); ++g) {
+      tinygltf::Primitive p = prim;
+      p.material = material_of(materials[g]);
+      p.indices = add_indices(m, faces_of[g]);
+      gmesh.primitives.push_back(std::move(p));
+    }
     gm_.meshes.push_back(std::move(gmesh));
 
     // On its own node where that node holds no mesh yet, so that a read-write cycle adds no node.
@@ -274,23 +292,39 @@ class Builder {
 
   // ---- materials ----------------------------------------------------------------------------
 
-  /// The glTF material of `m`, written once; -1 without one. Only materials that meshes use are
-  /// written, so load → write cycles do not gather the loader's default material.
-  int material_of(const mesh::Mesh& m) {
-    if (m.material < 0 || m.material >= static_cast<int>(model_.materials.size())) return -1;
-    const auto [it, added] = material_index_.try_emplace(m.material, static_cast<int>(gm_.materials.size()));
+  /// The glTF material of model material `material`, written once; -1 for none. Only materials
+  /// that faces use are written, so load → write cycles do not gather the loader's default
+  /// material.
+  int material_of(int material) {
+    if (material < 0 || material >= static_cast<int>(model_.materials.size())) return -1;
+    const auto [it, added] = material_index_.try_emplace(material, static_cast<int>(gm_.materials.size()));
     if (!added) return it->second;
-    const mesh::Material& in = model_.materials[static_cast<std::size_t>(m.material)];
+    const mesh::Material& in = model_.materials[static_cast<std::size_t>(material)];
     tinygltf::Material out;
     out.name = in.name;
-    // glTF factors lie in [0, 1].
+    // glTF factors lie in [0, 1]; scale and strength are any finite number.
     const auto unit = [](float v) { return std::isfinite(v) ? std::clamp(static_cast<double>(v), 0.0, 1.0) : 1.0; };
-    out.pbrMetallicRoughness.baseColorFactor = {unit(in.base_color.x()), unit(in.base_color.y()),
-                                                unit(in.base_color.z()), unit(in.base_color.w())};
-    out.pbrMetallicRoughness.metallicFactor = unit(in.metallic);
-    out.pbrMetallicRoughness.roughnessFactor = unit(in.roughness);
+    const auto finite_or_one = [](float v) { return std::isfinite(v) ? static_cast<double>(v) : 1.0; };
+    auto& pbr = out.pbrMetallicRoughness;
+    pbr.baseColorFactor = {unit(in.base_color.x()), unit(in.base_color.y()), unit(in.base_color.z()),
+                           unit(in.base_color.w())};
+    pbr.metallicFactor = unit(in.metallic);
+    pbr.roughnessFactor = unit(in.roughness);
+    pbr.baseColorTexture.index = texture_of(in.base_color_texture, in.name);
+    pbr.metallicRoughnessTexture.index = texture_of(in.metallic_roughness_texture, in.name);
+    out.normalTexture.index = texture_of(in.normal_texture, in.name);
+    out.normalTexture.scale = finite_or_one(in.normal_scale);
+    out.occlusionTexture.index = texture_of(in.occlusion_texture, in.name);
+    out.occlusionTexture.strength = unit(in.occlusion_strength);
+    out.emissiveTexture.index = texture_of(in.emissive_texture, in.name);
+    out.emissiveFactor = {unit(in.emissive.x()), unit(in.emissive.y()), unit(in.emissive.z())};
+    out.alphaMode = in.alpha_mode == mesh::AlphaMode::mask    ? "MASK"
+                    : in.alpha_mode == mesh::AlphaMode::blend ? "BLEND"
+                                                              : "OPAQUE";
+    // The cutoff is only meaningful (and only allowed by the validator) in MASK mode.
+    if (in.alpha_mode == mesh::AlphaMode::mask)
+      out.alphaCutoff = std::isfinite(in.alpha_cutoff) ? std::max(0.0, static_cast<double>(in.alpha_cutoff)) : 0.5;
     out.doubleSided = in.double_sided;
-    out.pbrMetallicRoughness.baseColorTexture.index = texture_of(in.base_color_texture, in.name);
     gm_.materials.push_back(std::move(out));
     return it->second;
   }
@@ -335,10 +369,11 @@ class Builder {
                                                    TINYGLTF_TARGET_ARRAY_BUFFER, false);
   }
 
-  int add_indices(const mesh::Mesh& m) {
+  /// The indices of faces `faces` of `m`.
+  int add_indices(const mesh::Mesh& m, const std::vector<int>& faces) {
     const bool narrow = m.vertex_count() <= 65535;  // 65535 is the primitive restart value
     const std::size_t begin = begin_view();
-    for (Eigen::Index f = 0; f < m.face_count(); ++f)
+    for (const int f : faces)
       for (int c = 0; c < 3; ++c) {
         if (narrow)
           put_u16(static_cast<std::uint16_t>(m.faces(f, c)));
@@ -347,7 +382,7 @@ class Builder {
       }
     const int view = end_view(begin, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, 0);
     return add_accessor(view, narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                        TINYGLTF_TYPE_SCALAR, static_cast<std::size_t>(3 * m.face_count()));
+                        TINYGLTF_TYPE_SCALAR, 3 * faces.size());
   }
 
   int add_skin(const mesh::Mesh& m, tinygltf::Primitive& prim, const std::string& label) {

@@ -6,12 +6,14 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
+#include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -87,7 +89,19 @@ class Loader {
   anim::RiggedModel run() {
     collect_nodes(scene_.mRootNode, -1);
     model_.skeleton = anim::Skeleton::build(editable_, &remap_);
-    for (const auto& [node, mesh_index] : mesh_refs_) add_mesh(*scene_.mMeshes[mesh_index], node);
+    // The primitives of one glTF mesh over the same vertices (cgamesh writes a mesh whose faces
+    // have several materials so) become one Mesh again, with per-face materials.
+    for (std::size_t r = 0; r < mesh_refs_.size();) {
+      std::vector<const aiMesh*> parts{scene_.mMeshes[mesh_refs_[r].second]};
+      std::size_t end = r + 1;
+      for (; end < mesh_refs_.size() && mesh_refs_[end].first == mesh_refs_[r].first; ++end) {
+        const aiMesh* next = scene_.mMeshes[mesh_refs_[end].second];
+        if (!same_vertices(*parts.front(), *next)) break;
+        parts.push_back(next);
+      }
+      add_mesh(parts, mesh_refs_[r].first);
+      r = end;
+    }
     if (model_.meshes.empty()) throw FileError("the file holds no triangle mesh");
     for (unsigned i = 0; i < scene_.mNumMaterials; ++i) add_material(*scene_.mMaterials[i]);
     for (unsigned a = 0; a < scene_.mNumAnimations; ++a) add_clip(*scene_.mAnimations[a], a);
@@ -149,11 +163,32 @@ class Loader {
     for (unsigned c = 0; c < node->mNumChildren; ++c) collect_nodes(node->mChildren[c], index);
   }
 
-  /// @param node  editable index of the node holding the mesh
-  void add_mesh(const aiMesh& in, int node) {
-    if ((in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0 || in.mNumFaces == 0) return;
+  /// Whether two meshes are triangle meshes with the same vertices (every attribute cgamesh
+  /// reads, and the same bones).
+  static bool same_vertices(const aiMesh& a, const aiMesh& b) {
+    const unsigned n = a.mNumVertices;
+    const auto same = [n](const aiVector3D* x, const aiVector3D* y) {
+      return (x == nullptr) == (y == nullptr) && (x == nullptr || std::equal(x, x + n, y));
+    };
+    if ((a.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0 || (b.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0 ||
+        b.mNumVertices != n || b.mNumBones != a.mNumBones || !same(a.mVertices, b.mVertices) ||
+        !same(a.mNormals, b.mNormals) || !same(a.mTextureCoords[0], b.mTextureCoords[0]))
+      return false;
+    for (unsigned k = 0; k < a.mNumBones; ++k)
+      if (a.mBones[k]->mName != b.mBones[k]->mName || a.mBones[k]->mNumWeights != b.mBones[k]->mNumWeights)
+        return false;
+    return true;
+  }
+
+  /// One Mesh from `parts` (meshes with the same vertices; their faces in turn) on the node of
+  /// editable index `node`.
+  void add_mesh(const std::vector<const aiMesh*>& parts, int node) {
+    const aiMesh& in = *parts.front();
+    if ((in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0) return;
     mesh::Mesh m;
     m.name = in.mName.length > 0 ? in.mName.C_Str() : "mesh" + std::to_string(model_.meshes.size());
+    // Assimp names the primitives of glTF mesh NAME "NAME-0", "NAME-1", ...
+    if (parts.size() > 1 && m.name.size() > 2 && m.name.ends_with("-0")) m.name.resize(m.name.size() - 2);
     const Eigen::Index nv = in.mNumVertices;
     m.positions.resize(nv, 3);
     for (Eigen::Index i = 0; i < nv; ++i) m.positions.row(i) << in.mVertices[i].x, in.mVertices[i].y, in.mVertices[i].z;
@@ -167,14 +202,23 @@ class Loader {
       for (Eigen::Index i = 0; i < nv; ++i) m.uvs.row(i) << in.mTextureCoords[0][i].x, in.mTextureCoords[0][i].y;
     }
     std::vector<Eigen::Vector3i> faces;
-    for (unsigned f = 0; f < in.mNumFaces; ++f) {
-      const aiFace& face = in.mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines of a mixed mesh
-      faces.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+    std::vector<int> materials;
+    for (const aiMesh* part : parts) {
+      const int material = part->mMaterialIndex < scene_.mNumMaterials ? static_cast<int>(part->mMaterialIndex) : -1;
+      for (unsigned f = 0; f < part->mNumFaces; ++f) {
+        const aiFace& face = part->mFaces[f];
+        if (face.mNumIndices != 3) continue;  // points and lines of a mixed mesh
+        faces.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+        materials.push_back(material);
+      }
     }
+    if (faces.empty()) return;
     m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
     for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
-    if (in.mMaterialIndex < scene_.mNumMaterials) m.material = static_cast<int>(in.mMaterialIndex);
+    m.material = materials.front();
+    if (std::any_of(materials.begin(), materials.end(), [&](int x) { return x != m.material; }))
+      m.face_materials =
+          Eigen::Map<const Eigen::VectorXi>(materials.data(), static_cast<Eigen::Index>(materials.size()));
     if (in.HasBones() ? add_skin(in, m) : mirrored_[static_cast<std::size_t>(node)]) reflect(m);
     m.node = remap_[static_cast<std::size_t>(node)];
     model_.meshes.push_back(std::move(m));
@@ -251,15 +295,48 @@ class Loader {
         m.base_color.setOnes();
       }
     }
-    ai_real factor = 0;
-    if (in.Get(AI_MATKEY_METALLIC_FACTOR, factor) == AI_SUCCESS && std::isfinite(factor)) m.metallic = factor;
-    if (in.Get(AI_MATKEY_ROUGHNESS_FACTOR, factor) == AI_SUCCESS && std::isfinite(factor)) m.roughness = factor;
+    const auto scalar = [&](const char* key, unsigned type, unsigned index, float& out) {
+      ai_real v = 0;
+      if (in.Get(key, type, index, v) == AI_SUCCESS && std::isfinite(v)) out = static_cast<float>(v);
+    };
+    scalar(AI_MATKEY_METALLIC_FACTOR, m.metallic);
+    scalar(AI_MATKEY_ROUGHNESS_FACTOR, m.roughness);
     int two_sided = 0;
     if (in.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) m.double_sided = two_sided != 0;
-    aiString path;
-    if (in.GetTexture(aiTextureType_BASE_COLOR, 0, &path) == AI_SUCCESS ||
-        in.GetTexture(aiTextureType_DIFFUSE, 0, &path) == AI_SUCCESS)
-      m.base_color_texture = texture(path.C_Str(), m.name);
+    aiColor3D e;
+    if (in.Get(AI_MATKEY_COLOR_EMISSIVE, e) == AI_SUCCESS) {
+      m.emissive = Eigen::Vector3f(e.r, e.g, e.b);
+      if (!m.emissive.allFinite()) m.emissive.setZero();
+    }
+    // Only Assimp's glTF importer sets the alpha mode; its metallic-roughness texture is the
+    // "unknown" type and its occlusion texture the lightmap, which mean other things elsewhere.
+    aiString alpha;
+    const bool gltf = in.Get(AI_MATKEY_GLTF_ALPHAMODE, alpha) == AI_SUCCESS;
+    if (gltf) {
+      const std::string mode = alpha.C_Str();
+      m.alpha_mode = mode == "MASK"    ? mesh::AlphaMode::mask
+                     : mode == "BLEND" ? mesh::AlphaMode::blend
+                                       : mesh::AlphaMode::opaque;
+      scalar(AI_MATKEY_GLTF_ALPHACUTOFF, m.alpha_cutoff);
+    }
+    const auto texture_of = [&](std::initializer_list<aiTextureType> types) {
+      aiString path;
+      for (const aiTextureType type : types)
+        if (in.GetTexture(type, 0, &path) == AI_SUCCESS) return texture(path.C_Str(), m.name);
+      return -1;
+    };
+    m.base_color_texture = texture_of({aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE});
+    m.normal_texture = texture_of({aiTextureType_NORMALS});
+    if (m.normal_texture >= 0) scalar(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), m.normal_scale);
+    m.emissive_texture = texture_of({aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR});
+    if (gltf) {
+      m.metallic_roughness_texture = texture_of({aiTextureType_UNKNOWN});
+      m.occlusion_texture = texture_of({aiTextureType_LIGHTMAP});
+      if (m.occlusion_texture >= 0)
+        scalar(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0), m.occlusion_strength);
+    } else {
+      m.occlusion_texture = texture_of({aiTextureType_AMBIENT_OCCLUSION});
+    }
     model_.materials.push_back(std::move(m));
   }
 

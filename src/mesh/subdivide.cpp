@@ -37,7 +37,13 @@ Mesh subdivide_midpoint(const Mesh& in) {
     faces.row(4 * f + 2) << ca, bc, c;
     faces.row(4 * f + 3) << ab, bc, ca;
   }
-  return resample(in, sources, faces);
+  Mesh out = resample(in, sources, faces);
+  if (in.face_materials.rows() > 0) {  // the four faces of face f are 4f … 4f + 3
+    out.face_materials.resize(4 * in.face_count());
+    for (Eigen::Index f = 0; f < in.face_count(); ++f)
+      out.face_materials.segment(4 * f, 4).setConstant(in.face_materials[f]);
+  }
+  return out;
 }
 
 }  // namespace cgamesh::mesh

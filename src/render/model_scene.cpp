@@ -169,13 +169,30 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
       d.positions = anim::skin(m, palette);
       d.normals = anim::skin_normals(m, palette);
       d.faces = m.faces;
+      const auto paint = [&](DrawMesh& draw, int material) {
+        if (material < 0 || material >= static_cast<int>(model.materials.size())) return;
+        const mesh::Material& mat = model.materials[static_cast<std::size_t>(material)];
+        draw.base_color = mat.base_color;
+        if (m.uvs.rows() > 0) draw.texture = texture(mat.base_color_texture);
+        if (draw.texture) draw.uvs = m.uvs;
+      };
       if (o.color != ColorMode::material) {
         d.base_color = {1, 1, 1, 1};
-      } else if (m.material >= 0 && m.material < static_cast<int>(model.materials.size())) {
-        const mesh::Material& mat = model.materials[static_cast<std::size_t>(m.material)];
-        d.base_color = mat.base_color;
-        if (m.uvs.rows() > 0) d.texture = texture(mat.base_color_texture);
-        if (d.texture) d.uvs = m.uvs;
+      } else if (m.face_materials.rows() > 0 && m.face_materials.rows() == m.face_count()) {
+        // Faces of several materials (a cut's caps, a hole's walls): one draw per material.
+        std::map<int, std::vector<Eigen::Index>> groups;
+        for (Eigen::Index f = 0; f < m.face_count(); ++f) groups[m.face_materials[f]].push_back(f);
+        for (const auto& [material, faces] : groups) {
+          DrawMesh part = d;
+          part.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+          for (std::size_t i = 0; i < faces.size(); ++i)
+            part.faces.row(static_cast<Eigen::Index>(i)) = m.faces.row(faces[i]);
+          paint(part, material);
+          scene.meshes.push_back(std::move(part));
+        }
+        continue;
+      } else {
+        paint(d, m.material);
       }
       const Eigen::Index nv = m.vertex_count();
       switch (o.color) {

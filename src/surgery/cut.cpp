@@ -48,9 +48,11 @@ class Cutter {
  public:
   /// A cut of the whole mesh: every vertex is classified up front.
   Cutter(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
-         const CutOptions& options, const anim::SkinningPalette* palette)
+         const CutOptions& options, const anim::SkinningPalette* palette, int cap_material)
       : Cutter(mesh, placed, plane, options, 0.0) {
     palette_ = palette;
+    cap_material_ = cap_material;
+    track_parents_ = mesh.face_materials.rows() > 0;  // for the pieces' face materials
     if (placed.rows() != mesh.vertex_count())
       throw InvalidInputError("cut: mesh '" + mesh.name + "' has " + std::to_string(nv_) + " vertices but " +
                               std::to_string(placed.rows()) + " placed positions");
@@ -82,12 +84,16 @@ class Cutter {
     for (Eigen::Index f = 0; f < nf; ++f, corner += 3) {
       const int a = corner[0], b = corner[1], c = corner[2];
       const int sa = side[a], sb = side[b], sc = side[c];
-      if (sa > 0 && sb > 0 && sc > 0)
+      if (sa > 0 && sb > 0 && sc > 0) {
         faces_[0].push_back({a, b, c});
-      else if (sa < 0 && sb < 0 && sc < 0)
+        if (track_parents_) parents_[0].push_back(static_cast<int>(f));
+      } else if (sa < 0 && sb < 0 && sc < 0) {
         faces_[1].push_back({a, b, c});
-      else
+        if (track_parents_) parents_[1].push_back(static_cast<int>(f));
+      } else {
+        parent_ = static_cast<int>(f);
         split_face(f);
+      }
     }
     MeshCut out;
     out.intersection_points = static_cast<int>(points_.size());
@@ -190,7 +196,7 @@ class Cutter {
 
   void emit(int piece, int a, int b, int c) {
     faces_[static_cast<std::size_t>(piece)].push_back({a, b, c});
-    if (side_.empty()) parents_[static_cast<std::size_t>(piece)].push_back(parent_);  // a local cut
+    if (track_parents_) parents_[static_cast<std::size_t>(piece)].push_back(parent_);
   }
 
   void split_face(Eigen::Index f) {
@@ -298,6 +304,7 @@ class Cutter {
     mesh::Mesh& m = out.pieces[static_cast<std::size_t>(piece)];
     m = mesh::resample(mesh_, sources, MeshFaces(0, 3));
     m.faces = std::move(piece_faces);  // valid by construction: moved in, not checked and copied
+    set_face_materials(piece, m);
     if (palette_ != nullptr) solve_rest_positions(m, *palette_, placed, sources, 0, options_.rest);
     if (static_cast<int>(sources.size()) > surface_vertices) set_cap_normals(m, surface_vertices);
   }
@@ -397,6 +404,18 @@ class Cutter {
     out.cap_triangles += static_cast<int>(tris.size());
   }
 
+  /// The piece's faces keep the materials of the faces they lie in; its cap faces (after them)
+  /// get cap_material_. Left without face_materials when every face has the mesh's material.
+  void set_face_materials(int piece, mesh::Mesh& m) const {
+    const auto surface = static_cast<Eigen::Index>(faces_[static_cast<std::size_t>(piece)].size());
+    const bool capped = m.face_count() > surface && cap_material_ != mesh_.material;
+    if (!track_parents_ && !capped) return;
+    m.face_materials.setConstant(m.face_count(), cap_material_);
+    const std::vector<int>& parents = parents_[static_cast<std::size_t>(piece)];
+    for (Eigen::Index f = 0; f < surface; ++f)
+      m.face_materials[f] = track_parents_ ? mesh_.face_material(parents[static_cast<std::size_t>(f)]) : mesh_.material;
+  }
+
   /// Normals of the cap vertices (from `first` on): area-weighted normals of the cap faces in
   /// the rest mesh (the cut plane is flat in the placed pose, not necessarily at rest).
   static void set_cap_normals(mesh::Mesh& m, int first) {
@@ -426,8 +445,12 @@ class Cutter {
   std::vector<EdgePoint> points_;
   FlatMap<int> point_of_edge_;
   std::array<std::vector<Triangle>, 2> faces_;
-  std::array<std::vector<int>, 2> parents_;  ///< a local cut's: per face of faces_, the face split
-  int parent_ = -1;                          ///< the face split_face splits (a local cut)
+  /// Per face of faces_, the input face it lies in: kept for a local cut (the edit's parents)
+  /// and for a mesh with face materials.
+  std::array<std::vector<int>, 2> parents_;
+  bool track_parents_ = true;
+  int parent_ = -1;        ///< the face split_face splits
+  int cap_material_ = -1;  ///< material of the cap faces
   int faces_split_ = 0;
   PositionWelder weld_{mesh_.positions};
   FlatMap<int> weld_of_edge_;
@@ -436,16 +459,19 @@ class Cutter {
 }  // namespace
 
 MeshCut cut_mesh(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga::Vector<double>& plane,
-                 const CutOptions& options, const anim::SkinningPalette* palette) {
-  return Cutter(mesh, placed, plane, options, palette).run();
+                 const CutOptions& options, const anim::SkinningPalette* palette, int cap_material) {
+  return Cutter(mesh, placed, plane, options, palette, cap_material).run();
 }
 
 ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const cga::Vector<double>& plane,
              const CutOptions& options) {
   require_placement_fits(model, placement);
   ModelCut out;
+  std::vector<mesh::Material> materials = model.materials;
+  const int cap_material = options.cap ? mesh::cut_surface_material_index(materials) : -1;
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    MeshCut mc = cut_mesh(model.meshes[i], placement.positions[i], plane, options, &placement.palettes[i]);
+    MeshCut mc =
+        cut_mesh(model.meshes[i], placement.positions[i], plane, options, &placement.palettes[i], cap_material);
     out.faces_in += static_cast<int>(model.meshes[i].face_count());
     out.intersection_points += mc.intersection_points;
     out.faces_split += mc.faces_split;
@@ -465,7 +491,10 @@ ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const c
   if (out.pieces[0].meshes.empty() || out.pieces[1].meshes.empty())
     throw TopologyError("cut: the plane misses the model (every face is on its " +
                         std::string(out.pieces[0].meshes.empty() ? "negative" : "positive") + " side)");
-  for (anim::RiggedModel& piece : out.pieces) copy_rig(model, piece);
+  for (anim::RiggedModel& piece : out.pieces) {
+    copy_rig(model, piece);
+    if (out.cap_triangles > 0) piece.materials = materials;  // with the cut-surface material
+  }
   return out;
 }
 

@@ -77,6 +77,10 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
   std::vector<bool> changed(edits.size());
   std::transform(edits.begin(), edits.end(), changed.begin(), changes);
   require_change(changed, out);
+  copy_rig(model, out.model);
+  const int cut_surface = std::any_of(edits.begin(), edits.end(), has_cut_surface)
+                              ? mesh::cut_surface_material_index(out.model.materials)
+                              : -1;
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
     if (edits[i].removed_faces.empty()) {  // not reached: copied as it is
@@ -90,7 +94,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
       continue;
     }
     out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
-    EditedMesh e = apply_edit(m, placement.positions[i], placement.palettes[i], edits[i], options.rest);
+    EditedMesh e = apply_edit(m, placement.positions[i], placement.palettes[i], edits[i], options.rest, cut_surface);
     out.new_vertices += blended_count(e.origins);
     if (e.mesh.face_count() == 0) {
       out.warnings.push_back("mesh '" + m.name + "' is drilled away entirely");
@@ -102,7 +106,6 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     out.origins.push_back(std::move(e.origins));
     out.placed.push_back(std::move(e.placed));
   }
-  copy_rig(model, out.model);
   return out;
 }
 

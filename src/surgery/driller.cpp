@@ -803,13 +803,14 @@ void Driller::reserve_output(const Pass& pass, const Walls& walls, LocalEdit& ed
   edit.new_placed.reserve(edit.new_placed.size() + fresh);
   edit.new_faces.reserve(edit.new_faces.size() + faces_.size() + pass.corners.size() - 2 * pass.polygons.size() +
                          static_cast<std::size_t>(walls.size()));
+  edit.new_face_origin.reserve(edit.new_faces.capacity());
 }
 
 /// The faces refinement made that the drill does not meet.
 void Driller::emit_split_faces(const std::vector<char>& affected, LocalEdit& edit, std::vector<int>& ids) const {
   for (std::size_t s = 0; s < faces_.size(); ++s) {
     const Face& f = faces_[s];
-    if (f.alive && !f.original && affected[s] == 0) emit_triangle(f.v, edit, ids);
+    if (f.alive && !f.original && affected[s] == 0) emit_triangle(f.v, f.origin, edit, ids);
   }
 }
 
@@ -825,7 +826,7 @@ void Driller::emit_kept_polygons(const Pass& pass, LocalEdit& edit, std::vector<
       emit_triangle(
           {pass.corners[static_cast<std::size_t>(first + t[0])], pass.corners[static_cast<std::size_t>(first + t[1])],
            pass.corners[static_cast<std::size_t>(first + t[2])]},
-          edit, ids);
+          faces_[static_cast<std::size_t>(slot)].origin, edit, ids);
   }
 }
 
@@ -850,14 +851,17 @@ void Driller::emit_walls(const Walls& walls, LocalEdit& edit) const {
       copy[x] = edit.add_vertex(v.old >= 0 ? VertexSource::copy(v.old) : v.source, v.placed, nv_, 0,
                                 normal[x].normalized(), v.off_surface);
     }
-    for (const Triangle& t : *surface)
+    for (const Triangle& t : *surface) {
       edit.new_faces.push_back({copy[static_cast<std::size_t>(t[0])], copy[static_cast<std::size_t>(t[1])],
                                 copy[static_cast<std::size_t>(t[2])]});
+      edit.new_face_origin.push_back(LocalEdit::kCutSurface);
+    }
   }
 }
 
-void Driller::emit_triangle(const Triangle& t, LocalEdit& edit, std::vector<int>& ids) const {
+void Driller::emit_triangle(const Triangle& t, int origin, LocalEdit& edit, std::vector<int>& ids) const {
   edit.new_faces.push_back({extended(t[0], edit, ids), extended(t[1], edit, ids), extended(t[2], edit, ids)});
+  edit.new_face_origin.push_back(origin);
 }
 
 /// The extended id of region vertex x; `ids` holds those of the new vertices (or −1).

@@ -245,7 +245,8 @@ class Driller {
   void emit_split_faces(const std::vector<char>& affected, LocalEdit& edit, std::vector<int>& ids) const;
   void emit_kept_polygons(const Pass& pass, LocalEdit& edit, std::vector<int>& ids) const;
   void emit_walls(const Walls& walls, LocalEdit& edit) const;
-  void emit_triangle(const Triangle& t, LocalEdit& edit, std::vector<int>& ids) const;
+  /// Emits t, a piece of input face `origin` (whose material it keeps).
+  void emit_triangle(const Triangle& t, int origin, LocalEdit& edit, std::vector<int>& ids) const;
   int extended(int x, LocalEdit& edit, std::vector<int>& ids) const;
 
   // ---- the region: vertices and faces, pulled in from the input on demand ----

@@ -84,15 +84,21 @@ std::array<Eigen::Vector3f, 3> placed_corners(const mesh::Mesh& m, const RowMatr
           placed.row(m.faces(f, 2)).transpose()};
 }
 
-/// Faces are stored in three parallel places (rows of the mesh, the BVH, the adjacency); this
-/// moves them together and remembers where faces went.
+/// Faces are stored in three parallel places (rows of the mesh and of its face materials when
+/// it has them, the BVH, the adjacency); this moves them together and remembers where faces
+/// went.
 class FaceSlots {
  public:
   FaceSlots(mesh::Mesh& m, const RowMatrixXf<3>& placed, MeshIndex& index)
-      : m_(m), placed_(placed), index_(index), count_(static_cast<int>(m.face_count())) {}
+      : m_(m),
+        placed_(placed),
+        index_(index),
+        count_(static_cast<int>(m.face_count())),
+        materials_(m.face_materials.rows() > 0) {}
 
-  void put(int f, const std::array<int, 3>& t) {
+  void put(int f, const std::array<int, 3>& t, int material) {
     m_.faces.row(f) << t[0], t[1], t[2];
+    if (materials_) m_.face_materials[f] = material;
     index_.bvh.replace(f, placed_corners(m_, placed_, f));
   }
 
@@ -100,13 +106,15 @@ class FaceSlots {
   void reserve_more(int n) {
     if (n <= 0) return;
     m_.faces.conservativeResize(count_ + n, Eigen::NoChange);
+    if (materials_) m_.face_materials.conservativeResize(count_ + n);
     index_.neighbor.resize(static_cast<std::size_t>(count_ + n), {-1, -1, -1});
   }
 
   /// Adds face t after the others (room made by reserve_more), in the BVH leaf of face `near`.
-  int append(const std::array<int, 3>& t, int near) {
+  int append(const std::array<int, 3>& t, int near, int material) {
     const int f = count_++;
     m_.faces.row(f) << t[0], t[1], t[2];
+    if (materials_) m_.face_materials[f] = material;
     index_.bvh.append(placed_corners(m_, placed_, f), near);
     return f;
   }
@@ -116,6 +124,7 @@ class FaceSlots {
     const int last = --count_;
     if (f != last) {
       m_.faces.row(f) = m_.faces.row(last);
+      if (materials_) m_.face_materials[f] = m_.face_materials[last];
       auto& nb = index_.neighbor;
       nb[static_cast<std::size_t>(f)] = nb[static_cast<std::size_t>(last)];
       for (const int g : nb[static_cast<std::size_t>(f)])
@@ -134,6 +143,7 @@ class FaceSlots {
 
   void shrink() {
     m_.faces.conservativeResize(count_, Eigen::NoChange);
+    if (materials_) m_.face_materials.conservativeResize(count_);
     index_.neighbor.resize(static_cast<std::size_t>(count_));
   }
 
@@ -149,6 +159,7 @@ class FaceSlots {
   const RowMatrixXf<3>& placed_;
   MeshIndex& index_;
   int count_;
+  bool materials_;                       ///< the mesh has face_materials
   std::unordered_map<int, int> origin_;  ///< current id -> id before the edit, for moved faces
 };
 
@@ -261,6 +272,13 @@ AppliedEdit LiveModel::apply(std::size_t i, const LocalEdit& edit, RestPosition 
       (edit.new_face_parent.size() != edit.new_faces.size() ||
        !std::all_of(edit.new_face_parent.begin(), edit.new_face_parent.end(), is_removed)))
     throw InvalidInputError("surgery: a new face's parent is not a removed face");
+  // The new faces' materials; the mesh gets a face material column (once) when they differ.
+  const int cut_surface = has_cut_surface(edit) ? mesh::cut_surface_material_index(model_.materials) : -1;
+  std::vector<int> materials(edit.new_faces.size());
+  for (std::size_t t = 0; t < materials.size(); ++t) materials[t] = new_face_material(m, edit, t, cut_surface);
+  if (m.face_materials.rows() == 0 &&
+      std::any_of(materials.begin(), materials.end(), [&](int x) { return x != m.material; }))
+    m.face_materials.setConstant(m.face_count(), m.material);
   const int nv = static_cast<int>(m.vertex_count());
   AppliedEdit out;
   out.old_vertex_count = nv;
@@ -317,10 +335,10 @@ AppliedEdit LiveModel::apply(std::size_t i, const LocalEdit& edit, RestPosition 
   slots.reserve_more(static_cast<int>(faces.size()) - static_cast<int>(removed.size() - plan.left_over.size()));
   for (std::size_t t = 0; t < faces.size(); ++t) {
     if (plan.slot[t] >= 0) {
-      slots.put(plan.slot[t], faces[t]);
+      slots.put(plan.slot[t], faces[t], materials[t]);
       ids[t] = plan.slot[t];
     } else {
-      ids[t] = slots.append(faces[t], plan.near[t]);
+      ids[t] = slots.append(faces[t], plan.near[t], materials[t]);
     }
   }
   for (auto it = plan.left_over.rbegin(); it != plan.left_over.rend(); ++it) slots.erase(*it);

@@ -122,7 +122,27 @@ std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& e
       edit.new_off_surface.size() != edit.new_vertices.size())
     throw InvalidInputError("surgery: the edit has a placed position for " + std::to_string(edit.new_placed.size()) +
                             " of its " + std::to_string(edit.new_vertices.size()) + " new vertices");
+  if (!edit.new_face_origin.empty() && edit.new_face_origin.size() != edit.new_faces.size())
+    throw InvalidInputError("surgery: the edit has a material origin for " +
+                            std::to_string(edit.new_face_origin.size()) + " of its " +
+                            std::to_string(edit.new_faces.size()) + " new faces");
+  for (const int f : edit.new_face_origin)
+    if (f != LocalEdit::kCutSurface && (f < 0 || f >= nf))
+      throw InvalidInputError("surgery: a new face's material origin " + std::to_string(f) + " is not an old face");
   return removed;
+}
+
+bool has_cut_surface(const LocalEdit& edit) {
+  return std::find(edit.new_face_origin.begin(), edit.new_face_origin.end(), LocalEdit::kCutSurface) !=
+         edit.new_face_origin.end();
+}
+
+int new_face_material(const mesh::Mesh& old, const LocalEdit& edit, std::size_t t, int cut_surface) {
+  if (!edit.new_face_origin.empty()) {
+    const int f = edit.new_face_origin[t];
+    return f == LocalEdit::kCutSurface ? cut_surface : old.face_material(f);
+  }
+  return edit.new_face_parent.empty() ? old.material : old.face_material(edit.new_face_parent[t]);
 }
 
 void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, const mesh::RowMatrixXf<3>& placed,
@@ -150,7 +170,7 @@ void set_placed_normal(mesh::Mesh& m, const anim::SkinningPalette& palette, Eige
 }
 
 EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed, const anim::SkinningPalette& palette,
-                      const LocalEdit& edit, RestPosition rest) {
+                      const LocalEdit& edit, RestPosition rest, int cut_surface) {
   const auto nv = static_cast<int>(old.vertex_count());
   const auto nf = old.face_count();
   const int total = nv + static_cast<int>(edit.new_vertices.size());
@@ -168,6 +188,25 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   }
   copy_run(nf);
   for (const auto& t : edit.new_faces) faces.row(row++) << t[0], t[1], t[2];
+  // Materials along the same runs, where the faces' differ.
+  std::vector<int> fresh_materials(edit.new_faces.size());
+  for (std::size_t t = 0; t < fresh_materials.size(); ++t)
+    fresh_materials[t] = new_face_material(old, edit, t, cut_surface);
+  Eigen::Matrix<int, Eigen::Dynamic, 1> face_materials;
+  if (old.face_materials.rows() > 0 ||
+      std::any_of(fresh_materials.begin(), fresh_materials.end(), [&](int x) { return x != old.material; })) {
+    face_materials.resize(faces.rows());
+    Eigen::Index at = 0, start = 0;
+    const auto copy_materials = [&](Eigen::Index to) {
+      for (Eigen::Index f = start; f < to; ++f) face_materials[at++] = old.face_material(f);
+    };
+    for (const int f : removed) {
+      copy_materials(f);
+      start = f + 1;
+    }
+    copy_materials(nf);
+    for (const int x : fresh_materials) face_materials[at++] = x;
+  }
   // Used vertices; old ones keep their order, then the new ones.
   std::vector<int> remap(static_cast<std::size_t>(total), -1);
   const int* ids = faces.data();
@@ -201,6 +240,7 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   m.node = old.node;
   m.material = old.material;
   m.faces = std::move(faces);
+  m.face_materials = std::move(face_materials);
   m.positions = stack_rows(old.positions, kept, all, blended.positions);
   m.normals = stack_rows(old.normals, kept, all, blended.normals);
   m.uvs = stack_rows(old.uvs, kept, all, blended.uvs);

@@ -69,15 +69,27 @@ struct EditedMesh {
 
 /// The removed faces of `edit`, sorted.
 /// @throws InvalidInputError for a removed face or a new face's vertex out of range, a face
-///         removed twice, or a new vertex without a placed position.
+///         removed twice, a new vertex without a placed position, or new_face_origin of
+///         another size than new_faces or with an entry that is neither an old face nor
+///         LocalEdit::kCutSurface.
 [[nodiscard]] std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& edit);
 
+/// Whether some new face of `edit` gets the cut-surface material.
+[[nodiscard]] bool has_cut_surface(const LocalEdit& edit);
+
+/// The material of new face t of `edit` on `old` (LocalEdit::new_face_origin), with
+/// `cut_surface` the index of the cut-surface material.
+[[nodiscard]] int new_face_material(const mesh::Mesh& old, const LocalEdit& edit, std::size_t t, int cut_surface);
+
 /// The old faces that are not removed, in their order, then the new faces; vertices no face
-/// uses are dropped, the others keep their relative order (old ones first).
+/// uses are dropped, the others keep their relative order (old ones first). Faces keep their
+/// materials, new ones get theirs by new_face_material (with `cut_surface`): the mesh gets
+/// face_materials when they differ.
 /// @throws InvalidInputError for an id out of range.
 /// New vertices get rest positions by `rest` against `palette` (see solve_rest_positions).
 [[nodiscard]] EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
-                                    const anim::SkinningPalette& palette, const LocalEdit& edit, RestPosition rest);
+                                    const anim::SkinningPalette& palette, const LocalEdit& edit, RestPosition rest,
+                                    int cut_surface = -1);
 
 /// Rest positions of the blended vertices of `m` (rows first + k whose origins[k] is a point on
 /// an edge or a face; copies of old vertices keep theirs). `exact`: the solution x of

@@ -8,6 +8,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/mesh/material.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/placement.hpp"
 
@@ -75,6 +76,27 @@ TEST(ModelScene, MaterialModeUsesTheBaseColourTexture) {
   const render::Scene b = scene_of(broken, {}, &warnings);
   EXPECT_FALSE(b.meshes[0].texture);
   ASSERT_EQ(warnings.size(), 1u) << warnings.back();
+}
+
+TEST(ModelScene, MaterialModeDrawsTheCapsOfACutInTheCutSurfaceColour) {
+  const auto model = cgamesh::io::load_model(cgamesh_test::demo_model());
+  const surgery::Placement placed =
+      surgery::place(model, anim::sample(model.skeleton, model.clips[0], 0.7, anim::BlendMode::format));
+  const surgery::ModelCut c =
+      surgery::cut(model, placed, cgamesh::cga::plane<double>({0.3, 1, 0.1}, 0.75), {.cap = true});
+  ASSERT_GT(c.cap_triangles, 0);
+  for (const anim::RiggedModel& piece : c.pieces) {
+    const render::Scene s = scene_of(piece, {});
+    Eigen::Index textured = 0, red = 0;
+    for (const render::DrawMesh& d : s.meshes) {
+      if (d.texture) textured += d.faces.rows();
+      if (!d.texture && d.base_color.isApprox(cgamesh::mesh::cut_surface_material().base_color)) red += d.faces.rows();
+    }
+    Eigen::Index faces = 0;
+    for (const auto& m : piece.meshes) faces += m.face_count();
+    EXPECT_GT(red, 0);
+    EXPECT_EQ(textured + red, faces);
+  }
 }
 
 TEST(ModelScene, PiecesAndNewVerticesOfACutSurviveAGltfRoundTrip) {

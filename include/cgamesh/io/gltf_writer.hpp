@@ -24,7 +24,9 @@ struct GltfWriteOptions {
 ///  - node i is skeleton joint i (name, rest TRS; non-uniform scale kept), children from the
 ///    parents; skeleton roots are scene roots. If a skin's joints lie in several trees, one
 ///    extra root node "cgamesh_root" (identity) is placed above all skeleton roots.
-///  - each mesh gets a glTF mesh with one triangle primitive: POSITION (with
+///  - each mesh gets a glTF mesh with one triangle primitive per material its faces use
+///    (Mesh::face_materials, in order of first use; one for a mesh without), all over the same
+///    vertex accessors: POSITION (with
 ///    min/max), NORMAL (renormalised; dropped with a warning if one is zero or not finite),
 ///    TEXCOORD_0, _CGAMESH_GENERATED (FLOAT 0/1, Mesh::generated, when some vertex is
 ///    generated; load_model() reads it back), and for a skinned mesh JOINTS_0 (UNSIGNED_SHORT) and WEIGHTS_0 (FLOAT,
@@ -38,9 +40,10 @@ struct GltfWriteOptions {
 ///    scene root when `mesh.node` is -1. A skinned mesh has one skin: joints = the palette's
 ///    nodes, inverseBindMatrices (last row exactly 0 0 0 1), skeleton = the joints' lowest
 ///    common ancestor.
-///  - the materials that meshes use (base colour factor and texture, metallic and roughness
-///    factors, double-sidedness), each PNG or JPEG texture's image embedded in the buffer (a
-///    texture of another type is dropped with a warning).
+///  - the materials that faces use (base colour, metallic-roughness, normal, occlusion and
+///    emissive factors and textures, alpha mode and cutoff, double-sidedness; factors clamped
+///    to [0, 1]), each PNG or JPEG texture's image embedded in the buffer once (a texture of
+///    another type is dropped with a warning).
 ///  - one animation per clip that has a non-empty channel; one sampler per non-empty channel
 ///    (FLOAT times with min/max; VEC3/VEC4 outputs in the glTF layout, rotations renormalised).
 ///    A CUBICSPLINE channel with a single key is written as STEP (with a warning).
@@ -54,10 +57,10 @@ struct GltfWriteOptions {
 /// @param[in] options  JSON formatting and buffer placement
 /// @return warnings about what was dropped or changed (empty when the model was written as is)
 /// @throws InvalidInputError for another extension, a model without meshes, a mesh without
-///         vertices or faces, NaN/infinite data, attribute rows != vertices, a face index out
-///         of range, skin joints/weights rows != vertices, palette and inverse_bind of
-///         different sizes, a palette entry outside the skeleton or repeated, a skin joint
-///         index >= palette size, a negative weight or a vertex whose weights sum to 0,
+///         vertices or faces, NaN/infinite data, attribute rows != vertices, face_materials
+///         rows neither 0 nor #F, a face index out of range, skin joints/weights rows !=
+///         vertices, palette and inverse_bind of different sizes, a palette entry outside the
+///         skeleton or repeated, a skin joint index >= palette size, a negative weight or a vertex whose weights sum to 0,
 ///         `mesh.node` outside the skeleton, a channel on a joint outside the skeleton, two
 ///         channels on the same joint and path in one clip, negative or (in float) not strictly
 ///         increasing key times, a values size that does not match the key count, or a zero

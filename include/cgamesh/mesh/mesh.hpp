@@ -50,9 +50,17 @@ struct Mesh {
   /// is placed by its joints alone, and its node is kept so that a written file keeps its tree.
   int node = -1;
   int material = -1;  ///< index into RiggedModel::materials, or -1 (none)
+  /// #F per-face material (index into RiggedModel::materials, or -1), for a mesh whose faces
+  /// differ (surgery gives its caps and hole walls the cut-surface material); 0 rows when every
+  /// face has `material`. glTF files keep it as one primitive per material.
+  Eigen::Matrix<int, Eigen::Dynamic, 1> face_materials;
 
   [[nodiscard]] Eigen::Index vertex_count() const noexcept { return positions.rows(); }
   [[nodiscard]] Eigen::Index face_count() const noexcept { return faces.rows(); }
+  /// The material of face f (0 <= f < #F).
+  [[nodiscard]] int face_material(Eigen::Index f) const noexcept {
+    return face_materials.rows() > 0 ? face_materials[f] : material;
+  }
 };
 
 }  // namespace cgamesh::mesh

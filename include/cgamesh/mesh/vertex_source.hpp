@@ -41,7 +41,8 @@ void blend_influences(const Skin& skin, const VertexSource& source, std::span<st
                       std::span<float, 4> weights) noexcept;
 
 /// A mesh whose vertices are blends of `old`'s: positions, normals (renormalised), UVs and skin
-/// influences; palette, inverse binds, name and node copied.
+/// influences; palette, inverse binds, name, node and material copied (not face_materials:
+/// the new faces' origins are the caller's to know).
 /// @param[in] old      source mesh
 /// @param[in] sources  #N where each new vertex comes from (indices into `old`)
 /// @param[in] faces    #F×3 new faces, indices into `sources`

@@ -46,7 +46,8 @@ struct ModelInstance {
 /// skinned with options.skinning; normals, where a mesh has them, are turned by the linear part
 /// of each vertex's blended eq. (17) map (anim::skin_normals); meshes without normals are shaded
 /// flat. In `material` mode a mesh takes its material's base colour factor and texture (decoded
-/// once per model).
+/// once per model); a mesh whose faces have several materials (Mesh::face_materials: a cut's
+/// caps, a hole's walls) is drawn as one DrawMesh per material.
 /// @param[out] warnings  if not null, what could not be shown (a texture that does not decode)
 /// @throws InvalidInputError for a null model, a pose that does not fit its skeleton, or a
 ///         joint name (ColorMode::joint) that a model does not have (the message lists the joints).

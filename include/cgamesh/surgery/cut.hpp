@@ -16,7 +16,9 @@ namespace cgamesh::surgery {
 
 struct CutOptions {
   /// Close each piece: triangulate every closed cross-section loop (with holes) in the plane,
-  /// so each piece of a closed input is closed again (beyond the paper).
+  /// so each piece of a closed input is closed again (beyond the paper). The cap faces get the
+  /// cut-surface material (mesh::cut_surface_material_index, added to the pieces' materials
+  /// when a cap is made).
   bool cap = false;
   /// New vertices take only the influences of the old vertices on their own piece's side
   /// (paper section 4.3, "variations"); the two copies of a seam vertex then differ.
@@ -46,17 +48,21 @@ struct MeshCut {
 /// Cuts one mesh placed at `placed` by the plane Π = n + d e∞ (eq. 5): every face crossed is
 /// re-triangulated at the intersection points of its edges, X·Π deciding the side of each
 /// vertex and (B·Π) A − (A·Π) B the crossing point of edge AB (the meet of line and plane).
-/// Faces lying in the plane go to the side their normal faces away from.
+/// Faces lying in the plane go to the side their normal faces away from. The pieces' faces keep
+/// their materials; cap faces (options.cap) come last and get `cap_material` (the pieces get
+/// Mesh::face_materials when the two differ).
 /// @param[in] mesh    rest mesh with optional skin, #V vertices
 /// @param[in] placed  #V×3 posed positions the plane is placed against
 /// @param[in] plane   a CGA plane (cga::plane(n, d))
 /// @param[in] palette the `cga` skinning palette `placed` came from (Placement::palettes): new
 ///                    vertices then get rest positions by options.rest; without it (nullptr)
 ///                    they keep the parametric ones
+/// @param[in] cap_material  material index of the cap faces (the model's cut-surface material,
+///                    as cut() passes it), or −1 for none
 /// @throws InvalidInputError for a vector that is not a plane, or NaN positions.
 [[nodiscard]] MeshCut cut_mesh(const mesh::Mesh& mesh, const mesh::RowMatrixXf<3>& placed,
                                const cga::Vector<double>& plane, const CutOptions& options = {},
-                               const anim::SkinningPalette* palette = nullptr);
+                               const anim::SkinningPalette* palette = nullptr, int cap_material = -1);
 
 /// What a cut did, in place or as a copy.
 struct CutStats {

@@ -26,6 +26,8 @@ struct DrillOptions {
   /// the axis, and a blind hole (an entry rim with no exit before the tip) with a tube down to
   /// the tip's disk and that disk, so that a closed input stays closed (beyond the paper).
   /// Other rims (at a mesh boundary, or cut by an end disk) are left open with a warning.
+  /// Wall faces get the cut-surface material (mesh::cut_surface_material_index, added to the
+  /// model's materials when a wall is made); the faces around the hole keep their own.
   bool wall = false;
   /// A rim with fewer points than this (or a disk lying inside one face) is too coarse: the
   /// faces the rim crosses are split 1→4 (red-green, no T-junctions) and drilled again (paper

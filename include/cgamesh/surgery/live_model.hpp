@@ -80,7 +80,9 @@ class LiveModel {
   /// vertices are appended with rest positions by `rest` and skin weights from their origins
   /// (section 4.3), and the mesh's SurfaceIndex follows (welds, adjacency, BVH) in O(edit): as a
   /// fresh build would give it, except that copies for different sides of a separation stay
-  /// apart.
+  /// apart. New faces get their materials by edit.new_face_origin (the cut-surface material is
+  /// added to model().materials when first used); the mesh gets Mesh::face_materials (one
+  /// O(F) fill) when its faces' materials first differ.
   /// @param[in] i       index into model().meshes
   /// @param[in] edit    over mesh i's vertices (ids below #V) and the edit's new ones
   /// @param[in] adjust  empty, or called once the new vertices are in the mesh

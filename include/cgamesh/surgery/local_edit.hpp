@@ -31,6 +31,12 @@ struct LocalEdit {
   /// Per new face: the removed face it lies in, when every new face has one (it may fill that
   /// face's slot in place); empty otherwise.
   std::vector<int> new_face_parent;
+  /// A new_face_origin entry for a face of a cut surface (a cap, a hole's wall).
+  static constexpr int kCutSurface = -1;
+  /// Per new face: the old face whose material it keeps (the one it lies in), or kCutSurface
+  /// for a face that gets the cut-surface material (mesh::cut_surface_material_index). Empty:
+  /// each new face keeps its new_face_parent's material, or without parents the mesh's.
+  std::vector<int> new_face_origin;
 
   /// Adds a new vertex; returns its extended id.
   int add_vertex(const mesh::VertexSource& source, const Eigen::Vector3d& placed, int old_vertex_count,
