@@ -120,8 +120,8 @@ void require_in_reach(const Placement& placement, const Eigen::Vector3d& point, 
   if (!(b.hi.array() >= b.lo.array()).all()) return;
   const double reach = kMaxToolReach * std::max(b.diagonal(), 1e-30);
   const Eigen::Vector3d outside = (b.lo - point).cwiseMax(point - b.hi).cwiseMax(0.0);
-  if (!(outside.norm() <= reach))
-    throw InvalidInputError(what + " lies " + number(outside.norm()) + " from the model, more than " +
+  if (!(outside.stableNorm() <= reach))
+    throw InvalidInputError(what + " lies " + number(outside.stableNorm()) + " from the model, more than " +
                             number(kMaxToolReach) + " times the model's size (" + number(b.diagonal()) +
                             "): no geometric sense for this model");
 }
