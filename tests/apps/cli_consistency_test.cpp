@@ -217,8 +217,8 @@ TEST(CliValues, ResultsThatOverflowAreRefused) {
                  "translate", out);
   expect_failure(f, {"pose", cesium().string(), "--set", j + ":scale=1e308", "-o", out.string()}, 2, "scale", out);
   expect_failure(f,
-                 {"animate", cesium().string(), "--key", "0:" + j + ":scale=1", "--key", "1:" + j + ":scale=1e300", "-o",
-                  out.string()},
+                 {"animate", cesium().string(), "--key", "0:" + j + ":scale=1", "--key", "1:" + j + ":scale=1e300",
+                  "-o", out.string()},
                  2, "scale", out);
   // Too many frames: a huge fps, or a key far away in time.
   expect_failure(f,
