@@ -13,6 +13,8 @@
 #include "cgamesh/cga.hpp"
 #include "cgamesh/errors.hpp"
 
+#include "cli_common.hpp"
+
 namespace cgamesh::cli {
 namespace {
 
@@ -79,7 +81,7 @@ void run(const DemoOptions& o) {
         {"matrix", {{"normal", to_json(n_matrix)}, {"distance", d_matrix}}}}},
       {"blend", path}};
   if (o.json) {
-    std::cout << out.dump(2) << "\n";
+    std::cout << cgamesh::cli::dump_json(out) << "\n";
     return;
   }
   std::cout << "TRS versor V = T(t) R(axis, angle) D(s) in the null basis (e1, e2, e3, einf, eo):\n  ";

@@ -2,6 +2,7 @@
 // Conventions every cgamesh command shares: comma-separated vectors, joint edits, choosing a
 // clip and a pose, output formats chosen by extension.
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
@@ -19,20 +21,41 @@ namespace cgamesh::cli {
 extern const std::map<std::string, anim::BlendMode> kBlendModes;
 extern const std::map<std::string, anim::SkinningMode> kSkinningModes;
 
-/// Exactly `count` comma-separated finite numbers.
+using Json = nlohmann::ordered_json;
+
+/// `j` as indented JSON text. Names in models are not always UTF-8: invalid bytes become
+/// U+FFFD instead of throwing. Every command prints its JSON through this.
+template <class J>
+[[nodiscard]] std::string dump_json(const J& j) {
+  return j.dump(2, ' ', false, J::error_handler_t::replace);
+}
+
+/// `x` as printed by an ostream (6 significant digits): for messages.
+[[nodiscard]] std::string number(double x);
+
+/// Exactly `count` comma-separated finite numbers (denormals included).
 /// @throws InvalidInputError naming `what` otherwise.
 [[nodiscard]] std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what);
 
-/// "JOINT:rotate=AX,AY,AZ,DEG" | "JOINT:translate=X,Y,Z" | "JOINT:scale=S".
-/// @throws InvalidInputError for an unknown joint or a malformed edit.
-[[nodiscard]] anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& text);
+/// "JOINT:rotate=AX,AY,AZ,DEG" | "JOINT:translate=X,Y,Z" | "JOINT:scale=S". A rotation axis
+/// may have any non-zero length; a translation longer than `max_translation`, or a scale
+/// outside [1/kMaxReach, kMaxReach], is refused.
+/// @throws InvalidInputError for an unknown joint (naming the valid ones), a malformed edit, a
+///         zero axis or a translation out of reach.
+[[nodiscard]] anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& text,
+                                         double max_translation = INFINITY);
 
-/// The clip named or numbered `anim`; the first clip (or -1 without clips) when empty.
-/// @throws InvalidInputError when there is no such clip.
+/// The farthest an edit may translate a joint in `model`: kMaxReach times the diagonal of its
+/// bind-pose box (values beyond make no geometric sense and overflow floats).
+[[nodiscard]] double max_translation(const anim::RiggedModel& model);
+inline constexpr double kMaxReach = 1e6;
+
+/// The clip named or numbered `anim`.
+/// @throws InvalidInputError naming the valid clips when there is no such clip.
 [[nodiscard]] int clip_index(const anim::RiggedModel& model, const std::string& anim);
 
-/// The pose options of the surgery commands and `render`: a clip at a time, user edits, or the
-/// bind pose (the default).
+/// The pose a command acts on. Every command defaults to the bind pose (the pose `info` gives
+/// boxes for); --anim and/or --time choose a clip (the first when only --time is given).
 struct PoseChoice {
   explicit PoseChoice(std::string help) : anim_help(std::move(help)) {}
 
@@ -41,14 +64,41 @@ struct PoseChoice {
   double time = 0;
   anim::BlendMode blend = anim::BlendMode::format;
   std::vector<std::string> sets;
+  bool bind = false;
   const CLI::Option* time_option = nullptr;  ///< set by add_to(); given or not
 
-  /// Adds --anim, --time, --blend and --set to `sub`.
+  /// The pose chosen for one model, and how to report it.
+  struct Chosen {
+    anim::Pose pose;
+    Json report;                        ///< {"kind": "bind"} or {"kind": "clip", ...}, plus "edits"
+    std::string text;                   ///< the same, in words
+    std::vector<std::string> warnings;  ///< --time past the clip's end, or without a clip
+  };
+
+  /// Adds --anim, --time, --blend, --set and --bind-pose to `sub`.
   void add_to(CLI::App& sub);
   /// The chosen pose of `model`.
   /// @throws InvalidInputError for a bad time, an unknown clip or joint, or a malformed edit.
-  [[nodiscard]] anim::Pose pose(const anim::RiggedModel& model) const;
+  [[nodiscard]] Chosen choose(const anim::RiggedModel& model) const;
 };
+
+/// Adds --force (write over an input file) to `sub`.
+void add_force(CLI::App& sub, bool& force);
+
+/// Refuses an output that is one of the inputs (the same file, or the same path), unless
+/// `force`, and two outputs that are the same file.
+/// @throws InvalidInputError naming the option.
+void check_outputs(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs, bool force);
+
+/// Refuses an output whose extension is not in `allowed` (lower case, with the dot), listing
+/// them: what `command` writes.
+/// @throws InvalidInputError.
+void check_extension(const std::string& output, const std::vector<std::string>& allowed, const std::string& command);
+
+/// Refuses an empty value given to any option of `app` or of its parsed subcommands
+/// (`--time ''`): CLI11 would read it as 0 or "".
+/// @throws InvalidInputError naming the option.
+void check_no_empty_values(const CLI::App& app);
 
 /// World-space positions of every mesh in `pose`.
 [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,

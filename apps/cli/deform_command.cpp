@@ -146,9 +146,11 @@ double milliseconds_since(std::chrono::steady_clock::time_point t) {
 
 struct DeformCommand {
   std::string model, spec_path, output;
-  bool json = false;
+  bool json = false, force = false;
 
   void run() {
+    check_extension(output, {".obj", ".ply"}, "deform");
+    check_outputs({output}, {model, spec_path}, force);
     const Json spec = read_spec(spec_path);
     for (const auto& [name, value] : spec.items())
       if (name != "method" && name != "mesh" && name != "weights" && name != "handles" && name != "keys" &&
@@ -244,15 +246,16 @@ struct DeformCommand {
                     {"keys", keys.size()},
                     {"bind_milliseconds", bind_ms},
                     {"deform_milliseconds", deform_ms},
+                    {"pose", {{"kind", "bind"}, {"space", "mesh"}}},
                     {"warnings", m.warnings}};
     if (!ik_summary.is_null()) summary["ik"] = ik_summary;
     if (json) {
-      std::cout << summary.dump(2) << "\n";
+      std::cout << dump_json(summary) << "\n";
       return;
     }
     std::cout << "deform " << model << " (" << summary["method"].get<std::string>() << ", " << keys.size() << " keys, "
-              << target.vertex_count() << " vertices): bind " << bind_ms << " ms, frame " << deform_ms << " ms\n  -> "
-              << output << "\n";
+              << target.vertex_count() << " vertices, bind pose in mesh space): bind " << bind_ms << " ms, frame "
+              << deform_ms << " ms\n  -> " << output << "\n";
     if (!ik_summary.is_null() && !ik_summary["reached"].get<bool>())
       std::cout << "  warning: the IK target is out of reach (" << ik_summary["distance"].get<double>() << " away)\n";
   }
@@ -262,13 +265,16 @@ struct DeformCommand {
 
 void add_deform(CLI::App& app) {
   auto c = std::make_shared<DeformCommand>();
-  auto* sub = app.add_subcommand("deform",
-                                 "motor-handle deformation (spline-aligned or harmonic coordinates) from a JSON spec");
+  auto* sub = app.add_subcommand(
+      "deform",
+      "motor-handle deformation (spline-aligned or harmonic coordinates) from a JSON spec; acts on the bind pose "
+      "in mesh space (the mesh-space boxes of `info`)");
   sub->add_option("MESH", c->model, "model file (.obj, .ply, .glb, ...)")->required();
   sub->add_option("--spec", c->spec_path, "SPEC.json: method, handles, keys (see README, Deformation specs)")
       ->required();
   sub->add_option("-o,--output", c->output, "OUT: .obj or .ply, every mesh of the model, the chosen one deformed")
       ->required();
+  add_force(*sub, c->force);
   sub->add_flag("--json", c->json, "print a machine-readable summary");
   sub->callback([c] { c->run(); });
 }

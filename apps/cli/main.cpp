@@ -28,6 +28,8 @@ int main(int argc, char** argv) {
   cgamesh::cli::add_deform(app);
   cgamesh::cli::add_render(app);
   cgamesh::cli::add_algebra_demo(app);
+  // Before any command runs: `--time ''` is not 0.
+  app.parse_complete_callback([&app] { cgamesh::cli::check_no_empty_values(app); });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -28,10 +28,24 @@ namespace {
 
 using anim::BlendMode;
 using anim::SkinningMode;
-using Json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
 Json vec_json(const Eigen::Vector3f& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+/// The box of the rows of some matrices (min > max when they have none).
+struct Box {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  void add(const mesh::RowMatrixXf<3>& p) {
+    if (p.rows() == 0) return;
+    lo = lo.cwiseMin(p.colwise().minCoeff().transpose());
+    hi = hi.cwiseMax(p.colwise().maxCoeff().transpose());
+  }
+  [[nodiscard]] Json json() const { return {{"min", vec_json(lo)}, {"max", vec_json(hi)}}; }
+};
+
+std::ostream& operator<<(std::ostream& os, const Box& b) {
+  return os << "[" << b.lo.transpose() << "] - [" << b.hi.transpose() << "]";
+}
 
 // ---- info ----
 struct InfoOptions {
@@ -41,74 +55,118 @@ struct InfoOptions {
 
 void run_info(const InfoOptions& o) {
   const anim::RiggedModel model = cli::load_model(o.model, false);
-  const auto rest = posed_positions(model, anim::rest_pose(model.skeleton), SkinningMode::matrix);
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  const anim::Skeleton& sk = model.skeleton;
+  const auto rest = posed_positions(model, anim::rest_pose(sk), SkinningMode::matrix);
+  // Which meshes each joint skins.
+  std::vector<std::vector<int>> skins(static_cast<std::size_t>(sk.size()));
+  for (std::size_t i = 0; i < model.meshes.size(); ++i)
+    for (const int j : model.meshes[i].skin.palette)
+      if (j >= 0 && j < sk.size()) skins[static_cast<std::size_t>(j)].push_back(static_cast<int>(i));
+  const auto skinned_joints = std::count_if(skins.begin(), skins.end(), [](const auto& m) { return !m.empty(); });
+
+  Box world;
   Json meshes = Json::array();
   long vertices = 0, triangles = 0;
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
     vertices += m.vertex_count();
     triangles += m.face_count();
-    if (m.vertex_count() > 0) {
-      lo = lo.cwiseMin(rest[i].colwise().minCoeff().transpose());
-      hi = hi.cwiseMax(rest[i].colwise().maxCoeff().transpose());
-    }
+    Box own, space;
+    own.add(rest[i]);
+    space.add(m.positions);
+    world.add(rest[i]);
     meshes.push_back({{"name", m.name},
                       {"vertices", m.vertex_count()},
                       {"triangles", m.face_count()},
                       {"skinned", !m.skin.empty()},
-                      {"joints", m.skin.palette.size()}});
+                      {"joints", m.skin.palette.size()},
+                      {"bounding_box", own.json()},
+                      {"bounding_box_mesh_space", space.json()}});
+  }
+  Json skeleton = Json::array();
+  for (int j = 0; j < sk.size(); ++j) {
+    const int p = sk.parents()[j];
+    skeleton.push_back({{"index", j},
+                        {"name", sk.names()[j]},
+                        {"parent", p},
+                        {"parent_name", p < 0 ? Json(nullptr) : Json(sk.names()[p])},
+                        {"skins", skins[static_cast<std::size_t>(j)]}});
   }
   Json clips = Json::array();
-  for (const anim::Clip& c : model.clips) clips.push_back({{"name", c.name}, {"duration", c.duration}});
+  for (std::size_t c = 0; c < model.clips.size(); ++c)
+    clips.push_back({{"index", c}, {"name", model.clips[c].name}, {"duration", model.clips[c].duration}});
   const Json out = {{"file", o.model},
+                    {"pose", {{"kind", "bind"}}},
                     {"meshes", meshes},
                     {"vertices", vertices},
                     {"triangles", triangles},
-                    {"joints", model.skeleton.size()},
+                    {"nodes", sk.size()},
+                    {"skinned_joints", skinned_joints},
+                    {"skeleton", skeleton},
                     {"animations", clips},
                     {"max_influences", model.source_max_influences},
-                    {"bounding_box", {{"min", vec_json(lo)}, {"max", vec_json(hi)}}},
+                    {"bounding_box", world.json()},
                     {"warnings", model.warnings}};
   if (o.json) {
-    std::cout << out.dump(2) << "\n";
+    std::cout << dump_json(out) << "\n";
     return;
   }
-  std::cout << o.model << "\n  meshes: " << model.meshes.size() << " (" << vertices << " vertices, " << triangles
-            << " triangles)\n";
-  for (const auto& m : meshes)
-    std::cout << "    " << m["name"].get<std::string>() << ": " << m["vertices"] << " vertices, " << m["triangles"]
-              << " triangles" << (m["skinned"].get<bool>() ? ", skinned to " + m["joints"].dump() + " joints" : "")
-              << "\n";
-  std::cout << "  joints: " << model.skeleton.size() << "\n  animations: " << model.clips.size() << "\n";
-  for (const auto& c : clips)
-    std::cout << "    " << c["name"].get<std::string>() << ": " << c["duration"].get<double>() << " s\n";
-  std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: [" << lo.transpose()
-            << "] - [" << hi.transpose() << "]\n";
+  std::cout << o.model << " (boxes in the bind pose, world space)\n  meshes: " << model.meshes.size() << " ("
+            << vertices << " vertices, " << triangles << " triangles)\n";
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    const mesh::Mesh& m = model.meshes[i];
+    Box own, space;
+    own.add(rest[i]);
+    space.add(m.positions);
+    std::cout << "    " << i << " " << m.name << ": " << m.vertex_count() << " vertices, " << m.face_count()
+              << " triangles"
+              << (m.skin.empty() ? std::string() : ", skinned to " + std::to_string(m.skin.palette.size()) + " joints")
+              << "\n      box " << own << "\n      mesh-space box " << space << "\n";
+  }
+  std::cout << "  nodes: " << sk.size() << " (" << skinned_joints << " skin joints)\n";
+  std::vector<std::vector<int>> children(static_cast<std::size_t>(sk.size()));
+  std::vector<int> roots;
+  for (int j = 0; j < sk.size(); ++j)
+    (sk.parents()[j] < 0 ? roots : children[static_cast<std::size_t>(sk.parents()[j])]).push_back(j);
+  const auto print = [&](const auto& self, int j, int depth) -> void {
+    std::cout << std::string(static_cast<std::size_t>(4 + 2 * depth), ' ') << sk.names()[j];
+    const auto& s = skins[static_cast<std::size_t>(j)];
+    for (std::size_t k = 0; k < s.size(); ++k)
+      std::cout << (k == 0 ? "  [skins " : ", ") << model.meshes[static_cast<std::size_t>(s[k])].name;
+    std::cout << (s.empty() ? "" : "]") << "\n";
+    for (const int c : children[static_cast<std::size_t>(j)]) self(self, c, depth + 1);
+  };
+  for (const int r : roots) print(print, r, 0);
+  std::cout << "  animations: " << model.clips.size() << "\n";
+  for (std::size_t c = 0; c < model.clips.size(); ++c)
+    std::cout << "    " << c << " " << model.clips[c].name << ": " << model.clips[c].duration << " s\n";
+  std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: " << world << "\n";
   for (const auto& w : model.warnings) std::cout << "  warning: " << w << "\n";
+}
+
+/// Loader and pose warnings: the pose's on stderr now (the loader's are there already), all in
+/// --json.
+std::vector<std::string> all_warnings(const anim::RiggedModel& model, const std::vector<std::string>& more) {
+  for (const std::string& w : more) std::cerr << "cgamesh: warning: " << w << "\n";
+  std::vector<std::string> all = model.warnings;
+  all.insert(all.end(), more.begin(), more.end());
+  return all;
 }
 
 // ---- pose ----
 struct PoseOptions {
-  std::string model, output, anim;
-  double time = 0;
-  BlendMode blend = BlendMode::format;
+  std::string model, output;
+  PoseChoice pose{"pose in this animation"};
   SkinningMode skinning = SkinningMode::cga;
-  std::vector<std::string> sets;
-  bool bind_pose = false;
-  bool json = false;
+  bool json = false, force = false;
 };
 
 void run_pose(const PoseOptions& o) {
-  if (!std::isfinite(o.time) || o.time < 0) throw InvalidInputError("--time must be a finite number >= 0");
+  check_extension(o.output, {".obj", ".ply", ".glb", ".gltf"}, "pose");
+  check_outputs({o.output}, {o.model}, o.force);
   const anim::RiggedModel model = cli::load_model(o.model);
-  std::vector<anim::JointEdit> edits;
-  for (const std::string& s : o.sets) edits.push_back(parse_edit(model.skeleton, s));
-  const int clip = o.bind_pose ? -1 : clip_index(model, o.anim);
-  anim::Pose pose =
-      clip < 0 ? anim::rest_pose(model.skeleton) : anim::sample(model.skeleton, model.clips[clip], o.time, o.blend);
-  anim::apply_edits(pose, edits);
-  const auto positions = posed_positions(model, pose, o.skinning);
+  const PoseChoice::Chosen chosen = o.pose.choose(model);
+  const auto positions = posed_positions(model, chosen.pose, o.skinning);
   if (is_gltf_path(o.output)) {
     // The posed frame as a static glTF: world-space positions, no skin, one root node.
     anim::RiggedModel frame;
@@ -127,32 +185,37 @@ void run_pose(const PoseOptions& o) {
   } else {
     io::write_mesh(model.meshes, positions, o.output);
   }
+  const std::vector<std::string> warnings = all_warnings(model, chosen.warnings);
   if (o.json) {
-    Json out = {{"output", o.output},
-                {"animation", clip < 0 ? Json(nullptr) : Json(model.clips[clip].name)},
-                {"time", o.time},
-                {"meshes", model.meshes.size()},
-                {"warnings", model.warnings}};
-    std::cout << out.dump(2) << "\n";
+    const Json out = {{"output", o.output},
+                      {"pose", chosen.report},
+                      {"animation", chosen.report["kind"] == "clip" ? chosen.report["clip"] : Json(nullptr)},
+                      {"time", chosen.report["kind"] == "clip" ? chosen.report["time"] : Json(nullptr)},
+                      {"meshes", model.meshes.size()},
+                      {"warnings", warnings}};
+    std::cout << dump_json(out) << "\n";
+    return;
   }
+  std::cout << "pose " << o.model << " in the " << chosen.text << "\n  -> " << o.output << "\n";
 }
 
 // ---- convert ----
 struct ConvertOptions {
   std::string model, output;
-  bool json = false;
+  bool json = false, force = false;
 };
 
 void run_convert(const ConvertOptions& o) {
+  check_extension(o.output, {".glb", ".gltf"}, "convert");
+  check_outputs({o.output}, {o.model}, o.force);
   const anim::RiggedModel model = cli::load_model(o.model);
   io::write_gltf(model, o.output);
   if (o.json)
-    std::cout << Json({{"output", o.output},
-                       {"meshes", model.meshes.size()},
-                       {"joints", model.skeleton.size()},
-                       {"animations", model.clips.size()},
-                       {"warnings", model.warnings}})
-                     .dump(2)
+    std::cout << dump_json(Json({{"output", o.output},
+                                 {"meshes", model.meshes.size()},
+                                 {"joints", model.skeleton.size()},
+                                 {"animations", model.clips.size()},
+                                 {"warnings", model.warnings}}))
               << "\n";
 }
 
@@ -162,19 +225,24 @@ struct AnimateOptions {
   std::vector<std::string> keys;
   BlendMode blend = BlendMode::linear;
   double fps = 30;
-  bool json = false;
+  bool json = false, force = false;
 };
 
 void run_animate(const AnimateOptions& o) {
+  check_extension(o.output, {".glb", ".gltf"}, "animate");
+  check_outputs({o.output}, {o.model}, o.force);
+  if (!(o.fps > 0) || !std::isfinite(o.fps)) throw InvalidInputError("--fps must be a finite number > 0");
   anim::RiggedModel model = cli::load_model(o.model);
+  const double reach = max_translation(model);
   std::map<double, anim::Keyframe> by_time;
   for (const std::string& k : o.keys) {
     const std::size_t colon = k.find(':');
     if (colon == std::string::npos) throw InvalidInputError("--key '" + k + "': expected TIME:JOINT:EDIT=VALUES");
     const double t = parse_numbers(k.substr(0, colon), 1, "--key time")[0];
+    if (t < 0) throw InvalidInputError("--key '" + k + "': the time must be >= 0");
     anim::Keyframe& kf = by_time[t];
     kf.time = t;
-    kf.edits.push_back(parse_edit(model.skeleton, k.substr(colon + 1)));
+    kf.edits.push_back(parse_edit(model.skeleton, k.substr(colon + 1), reach));
   }
   std::vector<anim::Keyframe> keyframes;
   for (auto& [t, kf] : by_time) keyframes.push_back(std::move(kf));
@@ -182,13 +250,12 @@ void run_animate(const AnimateOptions& o) {
       anim::generate_clip(model.skeleton, keyframes, {.blend = o.blend, .fps = o.fps, .name = o.name}));
   io::write_gltf(model, o.output);
   if (o.json)
-    std::cout << Json({{"output", o.output},
-                       {"animation", o.name},
-                       {"keyframes", keyframes.size()},
-                       {"duration", model.clips.back().duration},
-                       {"channels", model.clips.back().channels.size()},
-                       {"warnings", model.warnings}})
-                     .dump(2)
+    std::cout << dump_json(Json({{"output", o.output},
+                                 {"animation", o.name},
+                                 {"keyframes", keyframes.size()},
+                                 {"duration", model.clips.back().duration},
+                                 {"channels", model.clips.back().channels.size()},
+                                 {"warnings", model.warnings}}))
               << "\n";
 }
 
@@ -196,8 +263,8 @@ void run_animate(const AnimateOptions& o) {
 
 void add_info(CLI::App& app) {
   auto o = std::make_shared<InfoOptions>();
-  CLI::App* sub =
-      app.add_subcommand("info", "Meshes, joints, animations, influences, bounding box and warnings of a model");
+  CLI::App* sub = app.add_subcommand(
+      "info", "Meshes, the joint hierarchy, animations, influences, bind-pose boxes and warnings of a model");
   sub->add_option("MODEL", o->model, "model file (any format Assimp reads)")->required();
   sub->add_flag("--json", o->json, "print a machine-readable summary");
   sub->callback([o] { run_info(*o); });
@@ -205,18 +272,15 @@ void add_info(CLI::App& app) {
 
 void add_pose(CLI::App& app) {
   auto o = std::make_shared<PoseOptions>();
-  CLI::App* sub =
-      app.add_subcommand("pose", "Write the world-space posed geometry of all meshes (OBJ, PLY, or a static glTF)");
+  CLI::App* sub = app.add_subcommand(
+      "pose",
+      "Write the world-space posed geometry of all meshes (OBJ, PLY, or a static glTF); default: the bind pose");
   sub->add_option("MODEL", o->model, "model file")->required();
   sub->add_option("-o,--output", o->output, "output file: .obj, .ply, .glb or .gltf")->required();
-  sub->add_option("--anim", o->anim, "animation name or index (default: the first)");
-  sub->add_option("--time", o->time, "seconds into the animation")->capture_default_str();
-  sub->add_option("--blend", o->blend, "key blending: format, linear or log")
-      ->transform(CLI::CheckedTransformer(kBlendModes, CLI::ignore_case));
+  o->pose.add_to(*sub);
   sub->add_option("--skinning", o->skinning, "skinning: cga, versor, matrix or dqs")
       ->transform(CLI::CheckedTransformer(kSkinningModes, CLI::ignore_case));
-  sub->add_option("--set", o->sets, "JOINT:rotate=AX,AY,AZ,DEG | JOINT:translate=X,Y,Z | JOINT:scale=S (repeatable)");
-  sub->add_flag("--bind-pose", o->bind_pose, "the bind pose instead of an animation");
+  add_force(*sub, o->force);
   sub->add_flag("--json", o->json, "print a machine-readable summary");
   sub->callback([o] { run_pose(*o); });
 }
@@ -226,6 +290,7 @@ void add_convert(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("convert", "Convert any readable model to a rigged glTF 2.0 (.glb or .gltf)");
   sub->add_option("MODEL", o->model, "model file")->required();
   sub->add_option("-o,--output", o->output, "output .glb or .gltf")->required();
+  add_force(*sub, o->force);
   sub->add_flag("--json", o->json, "print a machine-readable summary");
   sub->callback([o] { run_convert(*o); });
 }
@@ -240,8 +305,11 @@ void add_animate(CLI::App& app) {
   sub->add_option("--blend", o->blend, "linear or log")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, BlendMode>{{"linear", BlendMode::linear}, {"log", BlendMode::log}}, CLI::ignore_case));
-  sub->add_option("--fps", o->fps, "frames per second of the generated clip")->capture_default_str();
+  sub->add_option("--fps", o->fps,
+                  "frames per second of the generated clip (at most 100000 frames from the first key to the last)")
+      ->capture_default_str();
   sub->add_option("--name", o->name, "name of the new clip")->capture_default_str();
+  add_force(*sub, o->force);
   sub->add_flag("--json", o->json, "print a machine-readable summary");
   sub->callback([o] { run_animate(*o); });
 }

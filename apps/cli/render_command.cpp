@@ -25,8 +25,6 @@
 namespace cgamesh::cli {
 namespace {
 
-using Json = nlohmann::ordered_json;
-
 /// The largest number of views in one contact sheet.
 constexpr int kMaxTurntable = 64;
 
@@ -37,7 +35,7 @@ struct RenderCommand {
   anim::SkinningMode skinning = anim::SkinningMode::cga;
   std::string color = "material", size = "1280x960", view, camera, bg = "1,1,1";
   double fov = 35;
-  bool frame = false, wireframe = false, skeleton = false, json = false;
+  bool frame = false, wireframe = false, skeleton = false, json = false, force = false;
   int turntable = 0;
 
   /// "WxH" as two positive integers.
@@ -65,6 +63,7 @@ struct RenderCommand {
     // Every argument is checked before any model is read or any context made.
     if (std::filesystem::path(output).extension() != ".png" && std::filesystem::path(output).extension() != ".PNG")
       throw InvalidInputError("-o '" + output + "': the output must be a .png file");
+    check_outputs({output}, models, force);
     render::RenderOptions options;
     parse_size(options);
     const auto bgv = parse_numbers(bg, 3, "--bg");
@@ -103,7 +102,15 @@ struct RenderCommand {
     std::vector<std::string> warnings;
     for (std::size_t i = 0; i < loaded.size(); ++i)
       for (const std::string& w : loaded[i].warnings) warnings.push_back(models[i] + ": " + w);
-    for (const anim::RiggedModel& m : loaded) instances.push_back({&m, pose.pose(m)});
+    Json poses = Json::array();
+    std::string pose_text;
+    for (std::size_t i = 0; i < loaded.size(); ++i) {
+      PoseChoice::Chosen chosen = pose.choose(loaded[i]);
+      for (const std::string& w : chosen.warnings) warnings.push_back(models[i] + ": " + w);
+      if (i == 0 || pose_text != chosen.text) pose_text += (i == 0 ? "" : "; ") + chosen.text;
+      poses.push_back(chosen.report);
+      instances.push_back({&loaded[i], std::move(chosen.pose)});
+    }
     const render::Scene scene = render::model_scene(instances, scene_options, &warnings);
     for (const std::string& w : warnings) std::cerr << "cgamesh: warning: " << w << "\n";
     const auto scene_done = std::chrono::steady_clock::now();
@@ -120,24 +127,27 @@ struct RenderCommand {
     const auto render_done = std::chrono::steady_clock::now();
     render::write_png(views == 1 ? images.front() : render::contact_sheet(images, columns, options.background), output);
 
+    const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    const Json summary = {
+        {"output", output},
+        {"width", options.width * (views == 1 ? 1 : columns)},
+        {"height", options.height * (views == 1 ? 1 : rows)},
+        {"views", views},
+        {"renderer", context.description()},
+        {"camera",
+         {{"eye", {cam.eye.x(), cam.eye.y(), cam.eye.z()}},
+          {"target", {cam.target.x(), cam.target.y(), cam.target.z()}},
+          {"up", {cam.up.x(), cam.up.y(), cam.up.z()}},
+          {"fov", cam.fov_degrees}}},
+        {"pose", poses.size() == 1 ? poses[0] : poses},
+        {"milliseconds", {{"load_and_pose", ms(start, scene_done)}, {"render", ms(scene_done, render_done)}}},
+        {"warnings", warnings}};
     if (json) {
-      const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-      std::cout << Json({{"output", output},
-                         {"width", options.width * (views == 1 ? 1 : columns)},
-                         {"height", options.height * (views == 1 ? 1 : rows)},
-                         {"views", views},
-                         {"renderer", context.description()},
-                         {"camera",
-                          {{"eye", {cam.eye.x(), cam.eye.y(), cam.eye.z()}},
-                           {"target", {cam.target.x(), cam.target.y(), cam.target.z()}},
-                           {"up", {cam.up.x(), cam.up.y(), cam.up.z()}},
-                           {"fov", cam.fov_degrees}}},
-                         {"milliseconds",
-                          {{"load_and_pose", ms(start, scene_done)}, {"render", ms(scene_done, render_done)}}},
-                         {"warnings", warnings}})
-                       .dump(2)
-                << "\n";
+      std::cout << dump_json(summary) << "\n";
+      return;
     }
+    std::cout << "render " << models.size() << (models.size() == 1 ? " model" : " models") << " in the " << pose_text
+              << ", " << summary["width"] << "x" << summary["height"] << " pixels\n  -> " << output << "\n";
   }
 };
 
@@ -149,6 +159,7 @@ void add_render(CLI::App& app) {
   sub->add_option("MODEL", o->models, "model files (several are drawn together, e.g. the pieces of a cut)")->required();
   sub->add_option("-o,--output", o->output, "output .png")->required();
   o->pose.add_to(*sub);
+  add_force(*sub, o->force);
   sub->add_option("--skinning", o->skinning, "skinning: cga, versor, matrix or dqs")
       ->transform(CLI::CheckedTransformer(kSkinningModes, CLI::ignore_case));
   sub->add_option("--color", o->color,

@@ -1,6 +1,7 @@
 #include "surgery_commands.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -23,8 +24,6 @@
 namespace cgamesh::cli {
 namespace {
 
-using Json = nlohmann::ordered_json;
-
 /// The files of one result: a rigged glTF (skin, skeleton, clips), or for OBJ/PLY the surface
 /// as placed (the pose the tool was used in).
 std::vector<io::EncodedFile> encode_result(const anim::RiggedModel& model,
@@ -44,6 +43,7 @@ struct SurgeryCommand {
   PoseChoice placement{"place the tool against this animation"};
   bool euclidean = false;
   bool json = false;
+  bool force = false;
   std::string rest_position = "exact";
 
   /// The model loaded, placed and (for the local tools) indexed.
@@ -51,14 +51,23 @@ struct SurgeryCommand {
     anim::RiggedModel model;
     surgery::Placement placement;
     surgery::SurfaceIndex index;
+    PoseChoice::Chosen pose;  ///< the pose the tool is placed against
     double milliseconds = 0;  ///< placing and indexing, not loading
   };
+
+  /// Refuses outputs of another type or that would overwrite the input (before loading).
+  void check(const std::vector<std::string>& outputs, const std::string& command) const {
+    for (const std::string& o : outputs) check_extension(o, {".glb", ".gltf", ".obj", ".ply"}, command);
+    check_outputs(outputs, {model}, force);
+  }
 
   [[nodiscard]] Scene load(bool with_index) const {
     Scene s;
     s.model = cli::load_model(model);
+    s.pose = placement.choose(s.model);
+    for (const std::string& w : s.pose.warnings) std::cerr << "cgamesh: warning: " << w << "\n";
     const auto start = std::chrono::steady_clock::now();
-    s.placement = surgery::place(s.model, placement.pose(s.model));
+    s.placement = surgery::place(s.model, s.pose.pose);
     if (with_index) s.index = surgery::SurfaceIndex::build(s.model, s.placement);
     s.milliseconds = milliseconds_since(start);
     return s;
@@ -89,17 +98,19 @@ struct SurgeryCommand {
                     {"milliseconds", ms},
                     {"placement_milliseconds", scene.milliseconds},
                     {"predicates", euclidean ? "euclidean" : "cga"},
-                    {"rest", rest_position}};
+                    {"rest", rest_position},
+                    {"pose", scene.pose.report}};
     for (const auto& [key, value] : fields.items()) summary[key] = value;
-    // The loader's too (already on stderr): what the file made cgamesh approximate.
+    // The loader's and the pose's too (already on stderr).
     std::vector<std::string> all = scene.model.warnings;
+    all.insert(all.end(), scene.pose.warnings.begin(), scene.pose.warnings.end());
     all.insert(all.end(), warnings.begin(), warnings.end());
     summary["warnings"] = all;
     if (json) {
-      std::cout << summary.dump(2) << "\n";
+      std::cout << dump_json(summary) << "\n";
       return;
     }
-    std::cout << line << "\n";
+    std::cout << line << "\n  placed in the " << scene.pose.text << "\n";
     for (const auto& w : warnings) std::cout << "  warning: " << w << "\n";
   }
 
@@ -112,6 +123,7 @@ struct SurgeryCommand {
         ->check(CLI::IsMember({"exact", "parametric"}))
         ->capture_default_str();
     placement.add_to(sub);
+    add_force(sub, force);
     sub.add_flag("--json", json, "print a machine-readable summary");
   }
 };
@@ -131,10 +143,15 @@ struct CutCommand : SurgeryCommand {
   surgery::CutOptions options;
 
   void run() {
+    check(outputs, "cut");
     const auto p = parse_numbers(plane, 4, "--plane");
-    const Eigen::Vector3d n(p[0], p[1], p[2]);
-    if (!(n.norm() > 0)) throw InvalidInputError("--plane: the normal NX,NY,NZ is the zero vector");
-    const cga::Vector<double> pi = cga::plane(n, p[3]);
+    // Any length is a direction: scaled first, so that 1e308 does not overflow its norm.
+    const double largest = Eigen::Vector3d(p[0], p[1], p[2]).cwiseAbs().maxCoeff();
+    if (!(largest > 0)) throw InvalidInputError("--plane: the normal NX,NY,NZ is the zero vector");
+    const Eigen::Vector3d n = Eigen::Vector3d(p[0], p[1], p[2]) / largest;
+    const double d = p[3] / largest;
+    if (!std::isfinite(d)) throw InvalidInputError("--plane: the offset D is too large for this normal");
+    const cga::Vector<double> pi = cga::plane(n, d);
     const Scene scene = load(false);
     options.predicates = predicates();
     options.rest = rest();
@@ -167,6 +184,7 @@ struct DrillCommand : SurgeryCommand {
   surgery::DrillOptions options;
 
   void run() {
+    check({output}, "drill");
     const auto a = parse_numbers(tip, 3, "--tip"), b = parse_numbers(base, 3, "--base");
     const Eigen::Vector3d tip_point(a[0], a[1], a[2]), base_point(b[0], b[1], b[2]);
     const Scene scene = load(true);
@@ -205,6 +223,7 @@ struct TearCommand : SurgeryCommand {
   surgery::TearOptions options;
 
   void run() {
+    check({output}, "tear");
     std::vector<surgery::Scalpel> steps;
     for (const std::string& s : scalpels) {
       const auto v = parse_numbers(s, 6, "--scalpel");

@@ -2,12 +2,22 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "cgamesh/cga/interpolation.hpp"
 #include "cgamesh/errors.hpp"
 
 namespace cgamesh::anim {
+namespace {
+
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
 
 Clip generate_clip(const Skeleton& skeleton, std::span<const Keyframe> keyframes, const KeyframeOptions& options) {
   if (keyframes.size() < 2) throw InvalidInputError("keyframes: need at least two keyframes");
@@ -29,7 +39,12 @@ Clip generate_clip(const Skeleton& skeleton, std::span<const Keyframe> keyframes
   clip.name = options.name;
   const double t0 = keyframes.front().time, t1 = keyframes.back().time;
   clip.duration = t1;
-  const auto frames = static_cast<std::size_t>(std::ceil((t1 - t0) * options.fps - 1e-9)) + 1;
+  const double frame_count = std::ceil((t1 - t0) * options.fps - 1e-9) + 1;
+  if (!(frame_count <= kMaxGeneratedFrames))
+    throw InvalidInputError("keyframes: " + number(t1 - t0) + " s at " + number(options.fps) + " fps makes " +
+                            number(frame_count) + " frames, more than the " + number(kMaxGeneratedFrames) +
+                            " a generated clip may hold");
+  const auto frames = static_cast<std::size_t>(frame_count);
   for (int j : edited) {
     Channel ct, cr, cs;
     ct.path = ChannelPath::translation;
@@ -48,6 +63,9 @@ Clip generate_clip(const Skeleton& skeleton, std::span<const Keyframe> keyframes
       const cga::Versor<double> v =
           options.blend == BlendMode::linear ? cga::lerp_normalized(v0, v1, a) : cga::log_blend(v0, v1, a);
       const Transform tr = Transform::from_versor(v);
+      if (!tr.translation.allFinite() || !tr.rotation.coeffs().allFinite() || !tr.scale.allFinite())
+        throw InvalidInputError("keyframes: the frame at t = " + std::to_string(t) + " of joint '" +
+                                std::string(skeleton.names()[j]) + "' is not finite (an edit overflows)");
       for (Channel* c : {&ct, &cr, &cs}) c->times.push_back(t);
       ct.values.insert(ct.values.end(), {tr.translation.x(), tr.translation.y(), tr.translation.z()});
       Eigen::Quaterniond q = tr.rotation;

@@ -45,6 +45,14 @@ Skeleton Skeleton::build(const EditableSkeleton& editable, std::vector<int>* rem
   return s;
 }
 
+std::string name_list(std::span<const std::string> names, std::size_t shown) {
+  if (names.empty()) return "none";
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < shown; ++i) out += (i == 0 ? "'" : ", '") + names[i] + "'";
+  if (names.size() > shown) out += ", … (" + std::to_string(names.size()) + " in all)";
+  return out;
+}
+
 int Skeleton::find(std::string_view name) const noexcept {
   for (int i = 0; i < size(); ++i)
     if (names_[i] == name) return i;

@@ -527,7 +527,10 @@ class Builder {
           if (!(len > 0)) invalid(what + " has a zero rotation key");
           scale = 1 / len;
         }
-        for (int c = 0; c < comps; ++c) out.push_back(static_cast<float>(v[c] * scale));
+        for (int c = 0; c < comps; ++c) {
+          out.push_back(static_cast<float>(v[c] * scale));
+          if (!std::isfinite(out.back())) invalid(what + " has a key value too large for a float");
+        }
       }
     }
 

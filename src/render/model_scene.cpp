@@ -139,11 +139,9 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
     int joint = -1;
     if (o.color == ColorMode::joint) {
       joint = model.skeleton.find(o.joint);
-      if (joint < 0) {
-        std::string known;
-        for (const auto& n : model.skeleton.names()) known += (known.empty() ? "" : ", ") + n;
-        throw InvalidInputError("unknown joint '" + o.joint + "' (joints: " + known + ")");
-      }
+      if (joint < 0)
+        throw InvalidInputError("unknown joint '" + o.joint + "' (joints: " + anim::name_list(model.skeleton.names()) +
+                                ")");
     }
     if (static_cast<int>(in.pose.local.size()) != model.skeleton.size())
       throw InvalidInputError("model_scene: the pose has " + std::to_string(in.pose.local.size()) +

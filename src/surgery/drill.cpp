@@ -1,6 +1,9 @@
 #include "cgamesh/surgery/drill.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,10 +37,50 @@ std::vector<std::vector<int>> candidate_faces(const SurfaceIndex& index, const C
   return out;
 }
 
-/// @throws TopologyError when the drill meets no face of any mesh.
-void require_hit(const DrillStats& stats) {
-  if (stats.faces_affected == 0)
-    throw TopologyError("drill: the drill misses the model (no face meets the cylinder between its base and tip)");
+/// The nearest distance along the drill's axis, beyond the tip (`ahead`) or behind the base,
+/// at which the axis line meets a face of some mesh; infinity when it meets none.
+double axis_hit(const Placement& placement, const SurfaceIndex& index, const Cylinder& c, bool ahead) {
+  double radius = 0;  // of a ball about the origin holding every placed vertex
+  for (const auto& p : placement.positions)
+    if (p.rows() > 0) radius = std::max(radius, static_cast<double>(p.rowwise().norm().maxCoeff()));
+  const Eigen::Vector3d from = ahead ? Eigen::Vector3d(c.base + c.length * c.axis) : c.base;
+  const Eigen::Vector3d dir = ahead ? c.axis : Eigen::Vector3d(-c.axis);
+  const double far = 2 * (from.norm() + radius) + 1;  // beyond every vertex
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& m : index.meshes) {
+    const auto hits = m.bvh.segment_hits(from, from + far * dir);
+    if (!hits.empty()) best = std::min(best, hits.front().t * far);
+  }
+  return best;
+}
+
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+/// @throws TopologyError when the drill meets no face of any mesh; the message says when it
+///         stops short of the surface (its axis meets it beyond the tip) or points away from it.
+void require_hit(const DrillStats& stats, const Placement& placement, const SurfaceIndex& index, const Cylinder& c) {
+  if (stats.faces_affected != 0) return;
+  const double ahead = axis_hit(placement, index, c, true);
+  if (std::isfinite(ahead))
+    throw TopologyError("drill: the drill stops short of the surface: its axis meets the model " + number(ahead) +
+                        " beyond the tip (move the tip further along the axis)");
+  const double behind = axis_hit(placement, index, c, false);
+  if (std::isfinite(behind))
+    throw TopologyError("drill: the drill points away from the model: its axis meets the surface " + number(behind) +
+                        " behind the base (swap --tip and --base, or move them)");
+  throw TopologyError("drill: the drill misses the model (no face meets the cylinder between its base and tip)");
+}
+
+/// @throws InvalidInputError for a tip, base or radius far beyond the model (kMaxToolReach).
+void require_in_reach(const Placement& placement, const Eigen::Vector3d& tip, const Eigen::Vector3d& base,
+                      double radius) {
+  surgery::require_in_reach(placement, tip, "drill: the tip");
+  surgery::require_in_reach(placement, base, "drill: the base");
+  require_size_in_reach(placement, radius, "drill: the radius");
 }
 
 /// Whether an edit changes its mesh: a face that a disk inside it left as it was is re-emitted
@@ -64,6 +107,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
                  const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
   require_placement_fits(model, placement);
   const Cylinder c = make_cylinder(tip, base, radius, options);
+  require_in_reach(placement, tip, base, radius);
   require_index_fits(model, index, "drill");
   const auto candidates = candidate_faces(index, c);
   ModelDrill out;
@@ -73,7 +117,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     if (!candidates[i].empty())
       Driller(model.meshes[i], placement.positions[i], index.meshes[i], c, options).run(candidates[i], edits[i], out);
   }
-  require_hit(out);
+  require_hit(out, placement, index, c);
   std::vector<bool> changed(edits.size());
   std::transform(edits.begin(), edits.end(), changed.begin(), changes);
   require_change(changed, out);
@@ -112,6 +156,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
 LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                 const DrillOptions& options) {
   const Cylinder c = make_cylinder(tip, base, radius, options);
+  require_in_reach(live.placement(), tip, base, radius);
   const auto candidates = candidate_faces(live.index(), c);
   const anim::RiggedModel& model = live.model();
   LiveDrill out;
@@ -124,7 +169,7 @@ LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector
         .run(candidates[i], edits[i], out);
     out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
   }
-  require_hit(out);
+  require_hit(out, live.placement(), live.index(), c);
   std::vector<bool> changed(edits.size());
   std::transform(edits.begin(), edits.end(), changed.begin(), changes);
   require_change(changed, out);

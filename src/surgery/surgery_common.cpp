@@ -4,7 +4,9 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <span>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -85,6 +87,52 @@ void require_placement_fits(const anim::RiggedModel& model, const Placement& pla
       throw InvalidInputError("surgery: mesh '" + model.meshes[i].name + "' has " +
                               std::to_string(model.meshes[i].vertex_count()) + " vertices but " +
                               std::to_string(placement.positions[i].rows()) + " placed positions");
+}
+
+namespace {
+
+/// The bounding box of every placed position, and its diagonal (lo > hi when empty).
+struct PlacedBox {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  [[nodiscard]] double diagonal() const { return (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0; }
+};
+
+PlacedBox placed_box(const Placement& placement) {
+  PlacedBox b;
+  for (const auto& p : placement.positions)
+    if (p.rows() > 0) {
+      b.lo = b.lo.cwiseMin(p.colwise().minCoeff().transpose().cast<double>());
+      b.hi = b.hi.cwiseMax(p.colwise().maxCoeff().transpose().cast<double>());
+    }
+  return b;
+}
+
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+void require_in_reach(const Placement& placement, const Eigen::Vector3d& point, const std::string& what) {
+  const PlacedBox b = placed_box(placement);
+  if (!(b.hi.array() >= b.lo.array()).all()) return;
+  const double reach = kMaxToolReach * std::max(b.diagonal(), 1e-30);
+  const Eigen::Vector3d outside = (b.lo - point).cwiseMax(point - b.hi).cwiseMax(0.0);
+  if (!(outside.stableNorm() <= reach))
+    throw InvalidInputError(what + " lies " + number(outside.stableNorm()) + " from the model, more than " +
+                            number(kMaxToolReach) + " times the model's size (" + number(b.diagonal()) +
+                            "): no geometric sense for this model");
+}
+
+void require_size_in_reach(const Placement& placement, double length, const std::string& what) {
+  const PlacedBox b = placed_box(placement);
+  if (!(b.hi.array() >= b.lo.array()).all()) return;
+  if (!(length <= kMaxToolReach * std::max(b.diagonal(), 1e-30)))
+    throw InvalidInputError(what + " " + number(length) + " is more than " + number(kMaxToolReach) +
+                            " times the model's size (" + number(b.diagonal()) +
+                            "): no geometric sense for this model");
 }
 
 namespace {

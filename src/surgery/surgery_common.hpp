@@ -50,6 +50,13 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// Length of the bounding-box diagonal of the rows of `points` (0 when empty).
 [[nodiscard]] double bounding_diagonal(const mesh::RowMatrixXf<3>& points);
 
+/// @throws InvalidInputError naming `what` (e.g. "drill: the tip") when `point` lies farther
+///         than kMaxToolReach diagonals from the bounding box of every placed mesh.
+void require_in_reach(const Placement& placement, const Eigen::Vector3d& point, const std::string& what);
+/// @throws InvalidInputError naming `what` when `length` exceeds kMaxToolReach diagonals of the
+///         bounding box of every placed mesh.
+void require_size_in_reach(const Placement& placement, double length, const std::string& what);
+
 using mesh::position_key;
 using mesh::PositionHash;
 using mesh::PositionWelder;

@@ -32,6 +32,8 @@ auto trace_tear(const anim::RiggedModel& model, const Placement& placement, cons
     if (scalpel[i].handle == scalpel[i].tip)
       throw InvalidInputError("tear: scalpel step " + std::to_string(i) +
                               " has handle == tip (a blade of zero length)");
+    require_in_reach(placement, scalpel[i].handle, "tear: the handle of scalpel step " + std::to_string(i));
+    require_in_reach(placement, scalpel[i].tip, "tear: the tip of scalpel step " + std::to_string(i));
   }
   const auto first_hit = [&](std::size_t m, const Scalpel& s) {
     const auto hits = index.meshes[m].bvh.segment_hits(s.handle, s.tip);

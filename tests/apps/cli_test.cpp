@@ -69,8 +69,9 @@ TEST(CliInfo, JsonSummaryOfCesiumMan) {
   EXPECT_EQ(j["meshes"][0]["skinned"], true);
   EXPECT_EQ(j["vertices"], 3273);
   EXPECT_EQ(j["triangles"], 4672);
-  ASSERT_TRUE(j["joints"].is_number_integer());
-  EXPECT_GE(j["joints"].get<int>(), 19);  // the skin's 19 joints and the nodes above them
+  ASSERT_TRUE(j["nodes"].is_number_integer());
+  EXPECT_GE(j["nodes"].get<int>(), 19);  // the skin's 19 joints and the nodes above them
+  EXPECT_EQ(j["skinned_joints"], 19);
   ASSERT_TRUE(j["animations"].is_array());
   ASSERT_EQ(j["animations"].size(), 1u);
   EXPECT_TRUE(j["animations"][0]["name"].is_string());

@@ -18,6 +18,10 @@ struct Keyframe {
   std::vector<JointEdit> edits;
 };
 
+/// The most frames generate_clip() bakes into one clip ((last − first key time) · fps + 1):
+/// about 55 minutes at 30 fps; more is refused rather than filling memory.
+inline constexpr double kMaxGeneratedFrames = 100000;
+
 struct KeyframeOptions {
   BlendMode blend = BlendMode::linear;  ///< linear (the paper's choice here) or log
   double fps = 30;                      ///< frames per second of the generated clip
@@ -30,7 +34,8 @@ struct KeyframeOptions {
 /// left out.
 /// @param[in] keyframes  at least two, with strictly increasing times
 /// @throws InvalidInputError for fewer than two keyframes, times not increasing, fps <= 0,
-///         BlendMode::format, or a bad edit.
+///         more than kMaxGeneratedFrames frames, BlendMode::format, a bad edit, or a frame
+///         whose transform is not finite (an edit that overflows).
 [[nodiscard]] Clip generate_clip(const Skeleton& skeleton, std::span<const Keyframe> keyframes,
                                  const KeyframeOptions& options = {});
 

@@ -50,4 +50,8 @@ class Skeleton {
   std::vector<cga::Versor<double>> rest_versors_;
 };
 
+/// The first `shown` of `names`, comma-separated, then "… (N in all)" when there are more: for
+/// error messages that list the valid names (of joints, clips) without printing hundreds.
+[[nodiscard]] std::string name_list(std::span<const std::string> names, std::size_t shown = 20);
+
 }  // namespace cgamesh::anim

@@ -64,7 +64,8 @@ struct GltfWriteOptions {
 ///         `mesh.node` outside the skeleton, a channel on a joint outside the skeleton, two
 ///         channels on the same joint and path in one clip, negative or (in float) not strictly
 ///         increasing key times, a values size that does not match the key count, or a zero
-///         rotation key, or a name that is not valid UTF-8. Nothing is written then.
+///         rotation key, a key value too large for a float, or a name that is not valid UTF-8.
+///         Nothing is written then.
 /// @throws WriteError when the file cannot be written (nothing is left behind).
 std::vector<std::string> write_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
                                     const GltfWriteOptions& options = {});

@@ -94,10 +94,12 @@ struct LiveDrill : DrillStats {
 /// Cost: the affected region, not the mesh (apart from assembling the output meshes).
 /// @param[in] index   SurfaceIndex::build(model, placement)
 /// @param[in] tip, base  world-space end points A and B of the drill axis
-/// @throws InvalidInputError for radius <= 0 or NaN, tip == base, non-finite points, bad
-///         options, or a placement or index that does not fit the model.
-/// @throws TopologyError when the cylinder meets no face (the drill misses), or the drill
-///         changes nothing (it lies inside a face even after refinement).
+/// @throws InvalidInputError for radius <= 0 or NaN, tip == base, non-finite points, a tip,
+///         base or radius beyond kMaxToolReach model sizes, bad options, or a placement or
+///         index that does not fit the model.
+/// @throws TopologyError when the cylinder meets no face (the drill misses; the message says
+///         when it stops short of the surface or points away from it), or the drill changes
+///         nothing (it lies inside a face even after refinement).
 [[nodiscard]] ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, const SurfaceIndex& index,
                                const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                                const DrillOptions& options = {});

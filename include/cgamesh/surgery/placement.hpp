@@ -28,6 +28,12 @@ enum class RestPosition {
   parametric,
 };
 
+/// How far a tool may reach, in diagonals of the placed model's bounding box: cut, tear and
+/// drill refuse (InvalidInputError) a tool point farther than this from the box, or a drill
+/// radius larger than this, since such values make no geometric sense for the model (and their
+/// arithmetic loses every digit of the model's coordinates).
+inline constexpr double kMaxToolReach = 1e6;
+
 /// The posed surface of every mesh of a model.
 struct Placement {
   std::vector<mesh::RowMatrixXf<3>> positions;  ///< per mesh, #V×3 world-space posed positions

@@ -83,8 +83,9 @@ struct LiveTear : TearStats {
 /// @param[in] placement  its placed surface (place())
 /// @param[in] index      SurfaceIndex::build(model, placement)
 /// @param[in] scalpel    #steps ≥ 2 blade positions at t₀ … tₖ
-/// @throws InvalidInputError for fewer than 2 steps, NaN, a blade of zero length, a negative
-///         opening, or an index that does not fit.
+/// @throws InvalidInputError for fewer than 2 steps, NaN, a blade of zero length, a blade
+///         point beyond kMaxToolReach model sizes, a negative opening, or an index that does
+///         not fit.
 /// @throws TopologyError when the blade misses the surface at a step, or the surface path
 ///         between two entry points cannot be followed (different parts, an open border), or
 ///         the tear would change nothing (a path along edges the mesh has split already, and
