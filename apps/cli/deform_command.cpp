@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -127,6 +128,8 @@ Versor<double> key_versor(const Json& j, const std::string& field) {
 }
 
 Json read_spec(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw FileError("cannot read the spec " + path + ": is a directory");
   std::ifstream in(path);
   if (!in) throw FileError("cannot read the spec " + path);
   std::stringstream text;

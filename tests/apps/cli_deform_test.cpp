@@ -75,6 +75,11 @@ TEST(CliDeform, BadSpecsNameTheField) {
   }
   const Result missing = run_cli({"deform", model, "--spec", (dir.path() / "none.json").string(), "-o", out}, dir.path());
   EXPECT_EQ(missing.code, 3) << missing;
+  std::filesystem::create_directories(dir.path() / "spec_dir.json");
+  const Result directory =
+      run_cli({"deform", model, "--spec", (dir.path() / "spec_dir.json").string(), "-o", out}, dir.path());
+  EXPECT_EQ(directory.code, 3) << directory;
+  EXPECT_NE(directory.err.find("is a directory"), std::string::npos) << directory;
 }
 
 }  // namespace
