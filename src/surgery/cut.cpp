@@ -466,6 +466,16 @@ MeshCut cut_mesh(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga
 ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const cga::Vector<double>& plane,
              const CutOptions& options) {
   require_placement_fits(model, placement);
+  // The foot on the plane of any placed vertex lies within the model's box when the plane
+  // meets it, and as far as the plane when it does not.
+  for (const auto& p : placement.positions)
+    if (p.rows() > 0) {
+      const Eigen::Vector3d x = p.row(0).transpose().cast<double>(), n(plane[0], plane[1], plane[2]);
+      if (n.squaredNorm() > 0)
+        require_in_reach(placement, x - cga::scalar_product(cga::up<double>(x), plane) / n.squaredNorm() * n,
+                         "cut: the plane");
+      break;
+    }
   ModelCut out;
   std::vector<mesh::Material> materials = model.materials;
   const int cap_material = options.cap ? mesh::cut_surface_material_index(materials) : -1;

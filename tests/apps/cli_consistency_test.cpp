@@ -284,6 +284,8 @@ TEST(CliValues, ToolsFarFromTheModelAreRefused) {
                  {"tear", m, "--scalpel", "0.01,0.9,2,0.01,0.9,0.06", "--scalpel", "0.02,0.9,1e308,0.02,0.9,0.06", "-o",
                   out.string()},
                  2, "tear: the handle of scalpel step 1", out);
+  const fs::path b = f.outputs / "b.glb";
+  expect_failure(f, {"cut", m, "--plane", "0,1,0,1e300", "-o", out.string(), b.string()}, 2, "cut: the plane", out);
   // A drill whose axis would meet the model further on says it stops short.
   expect_failure(f, {"drill", m, "--base", "0.01,0.9,3", "--tip", "0.01,0.9,2", "--radius", "0.04", "-o", out.string()},
                  4, "stops short of the surface", out);
