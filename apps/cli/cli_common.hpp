@@ -15,11 +15,23 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/io/text_values.hpp"
 
 namespace cgamesh::cli {
 
-extern const std::map<std::string, anim::BlendMode> kBlendModes;
-extern const std::map<std::string, anim::SkinningMode> kSkinningModes;
+// The text forms every front end shares live in the library.
+using io::blend_name;
+using io::clip_index;
+using io::clip_names;
+using io::joint_index;
+using io::kBlendModes;
+using io::kMaxReach;
+using io::kSkinningModes;
+using io::max_translation;
+using io::number;
+using io::parse_edit;
+using io::parse_numbers;
+using io::posed_positions;
 
 using Json = nlohmann::ordered_json;
 
@@ -29,30 +41,6 @@ template <class J>
 [[nodiscard]] std::string dump_json(const J& j) {
   return j.dump(2, ' ', false, J::error_handler_t::replace);
 }
-
-/// `x` as printed by an ostream (6 significant digits): for messages.
-[[nodiscard]] std::string number(double x);
-
-/// Exactly `count` comma-separated finite numbers (denormals included).
-/// @throws InvalidInputError naming `what` otherwise.
-[[nodiscard]] std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what);
-
-/// "JOINT:rotate=AX,AY,AZ,DEG" | "JOINT:translate=X,Y,Z" | "JOINT:scale=S". A rotation axis
-/// may have any non-zero length; a translation longer than `max_translation`, or a scale
-/// outside [1/kMaxReach, kMaxReach], is refused.
-/// @throws InvalidInputError for an unknown joint (naming the valid ones), a malformed edit, a
-///         zero axis or a translation out of reach.
-[[nodiscard]] anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& text,
-                                         double max_translation = INFINITY);
-
-/// The farthest an edit may translate a joint in `model`: kMaxReach times the diagonal of its
-/// bind-pose box (values beyond make no geometric sense and overflow floats).
-[[nodiscard]] double max_translation(const anim::RiggedModel& model);
-inline constexpr double kMaxReach = 1e6;
-
-/// The clip named or numbered `anim`.
-/// @throws InvalidInputError naming the valid clips when there is no such clip.
-[[nodiscard]] int clip_index(const anim::RiggedModel& model, const std::string& anim);
 
 /// The pose a command acts on. Every command defaults to the bind pose (the pose `info` gives
 /// boxes for); --anim and/or --time choose a clip (the first when only --time is given).
@@ -99,10 +87,6 @@ void check_extension(const std::string& output, const std::vector<std::string>& 
 /// (`--time ''`): CLI11 would read it as 0 or "".
 /// @throws InvalidInputError naming the option.
 void check_no_empty_values(const CLI::App& app);
-
-/// World-space positions of every mesh in `pose`.
-[[nodiscard]] std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
-                                                                anim::SkinningMode mode);
 
 /// Seconds a model may take to load (--load-timeout): some readers loop forever on corrupt
 /// files, and a reader cannot be interrupted, so past this the process ends (exit 3).

@@ -6,11 +6,15 @@
 
 #include "algebra_demo.hpp"
 #include "cli_common.hpp"
+#include "deform_command.hpp"
 #include "model_commands.hpp"
 #include "render_command.hpp"
-#include "deform_command.hpp"
 #include "surgery_commands.hpp"
+#ifdef CGAMESH_WITH_VIEWER
+#include "view_command.hpp"
+#endif
 #include "cgamesh/errors.hpp"
+
 #include "exit_codes.hpp"
 
 int main(int argc, char** argv) {
@@ -27,6 +31,9 @@ int main(int argc, char** argv) {
   cgamesh::cli::add_drill(app);
   cgamesh::cli::add_deform(app);
   cgamesh::cli::add_render(app);
+#ifdef CGAMESH_WITH_VIEWER
+  cgamesh::cli::add_view(app);
+#endif
   cgamesh::cli::add_algebra_demo(app);
   // Before any command runs: `--time ''` is not 0.
   app.parse_complete_callback([&app] { cgamesh::cli::check_no_empty_values(app); });

@@ -51,4 +51,27 @@ class PlatformError : public Error {
   using Error::Error;
 };
 
+/// Inside a catch block: throws the error being handled again, as the same kind of cgamesh
+/// error with `context` put before its message (e.g. "script.txt:4: "); other exceptions are
+/// thrown again unchanged.
+[[noreturn]] inline void rethrow_with_context(const std::string& context) {
+  try {
+    throw;
+  } catch (const FileError& e) {
+    throw FileError(context + e.what());
+  } catch (const InvalidInputError& e) {
+    throw InvalidInputError(context + e.what());
+  } catch (const WriteError& e) {
+    throw WriteError(context + e.what());
+  } catch (const TopologyError& e) {
+    throw TopologyError(context + e.what());
+  } catch (const SolverError& e) {
+    throw SolverError(context + e.what());
+  } catch (const PlatformError& e) {
+    throw PlatformError(context + e.what());
+  } catch (const Error& e) {
+    throw Error(context + e.what());
+  }
+}
+
 }  // namespace cgamesh

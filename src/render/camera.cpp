@@ -95,6 +95,48 @@ Camera orbit(const Camera& camera, double radians) {
   return out;
 }
 
+Camera orbit(const Camera& c, double yaw, double pitch) {
+  const Eigen::Vector3d up = c.up.normalized();
+  Eigen::Vector3d offset = Eigen::AngleAxisd(yaw, up) * (c.eye - c.target);
+  const double elevation = std::asin(std::clamp(offset.normalized().dot(up), -1.0, 1.0));
+  const double limit = std::numbers::pi / 2 - std::numbers::pi / 180;
+  const double turn = std::clamp(elevation + pitch, -limit, limit) - elevation;
+  const Eigen::Vector3d right = up.cross(offset).normalized();
+  offset = Eigen::AngleAxisd(-turn, right) * offset;
+  Camera out = c;
+  out.eye = c.target + offset;
+  return out;
+}
+
+Camera pan(const Camera& c, double dx, double dy) {
+  const Eigen::Vector3d f = (c.target - c.eye).normalized();
+  const Eigen::Vector3d s = f.cross(c.up).normalized();
+  const Eigen::Vector3d u = s.cross(f);
+  const double height = 2 * (c.target - c.eye).norm() * std::tan(c.fov_degrees * std::numbers::pi / 360.0);
+  const Eigen::Vector3d move = (dx * s + dy * u) * height;
+  Camera out = c;
+  out.eye += move;
+  out.target += move;
+  return out;
+}
+
+Camera dolly(const Camera& c, double factor) {
+  if (!(factor > 0 && std::isfinite(factor))) throw InvalidInputError("dolly: the factor must be positive and finite");
+  Camera out = c;
+  out.eye = c.target + (c.eye - c.target) * factor;
+  return out;
+}
+
+Ray pixel_ray(const Camera& c, int width, int height, double x, double y) {
+  const Eigen::Vector3d f = (c.target - c.eye).normalized();
+  const Eigen::Vector3d s = f.cross(c.up).normalized();
+  const Eigen::Vector3d u = s.cross(f);
+  const double t = std::tan(c.fov_degrees * std::numbers::pi / 360.0);
+  const double aspect = static_cast<double>(width) / std::max(height, 1);
+  const double nx = 2 * x / std::max(width, 1) - 1, ny = 1 - 2 * y / std::max(height, 1);
+  return {c.eye, (f + s * (nx * t * aspect) + u * (ny * t)).normalized()};
+}
+
 Eigen::Matrix4d view_matrix(const Camera& c) {
   const Eigen::Vector3d f = (c.target - c.eye).normalized();
   const Eigen::Vector3d s = f.cross(c.up).normalized();

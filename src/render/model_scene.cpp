@@ -12,6 +12,32 @@
 namespace cgamesh::render {
 namespace {
 
+// Moves each piece away from the centre of the placed vertices by `amount` times the
+// offset of the piece's centre.
+void explode_pieces(const surgery::Pieces& p, double amount, mesh::RowMatrixXf<3>& positions) {
+  if (p.count < 2) return;
+  std::vector<Eigen::Vector3d> sum(static_cast<std::size_t>(p.count), Eigen::Vector3d::Zero());
+  std::vector<int> count(static_cast<std::size_t>(p.count), 0);
+  Eigen::Vector3d all = Eigen::Vector3d::Zero();
+  int used = 0;
+  for (Eigen::Index v = 0; v < positions.rows(); ++v) {
+    const int id = p.of_vertex[static_cast<std::size_t>(v)];
+    if (id < 0) continue;
+    sum[static_cast<std::size_t>(id)] += positions.row(v).transpose().cast<double>();
+    ++count[static_cast<std::size_t>(id)];
+    all += positions.row(v).transpose().cast<double>();
+    ++used;
+  }
+  const Eigen::Vector3d centre = all / std::max(used, 1);
+  for (Eigen::Index v = 0; v < positions.rows(); ++v) {
+    const int piece = p.of_vertex[static_cast<std::size_t>(v)];
+    if (piece < 0) continue;
+    const auto id = static_cast<std::size_t>(piece);
+    const Eigen::Vector3d move = amount * (sum[id] / count[id] - centre);
+    positions.row(v) += move.cast<float>().transpose();
+  }
+}
+
 using mesh::RowMatrixXf;
 
 /// A distinct colour for item i (hues a golden angle apart).
@@ -167,6 +193,12 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
       d.positions = anim::skin(m, palette);
       d.normals = anim::skin_normals(m, palette);
       d.faces = m.faces;
+      const std::size_t mi = static_cast<std::size_t>(&m - model.meshes.data());
+      const auto mesh_pieces = [&] {
+        return in.index != nullptr && mi < in.index->meshes.size() ? surgery::pieces(m, in.index->meshes[mi].weld)
+                                                                   : surgery::pieces(m);
+      };
+      if (o.explode != 0) explode_pieces(mesh_pieces(), o.explode, d.positions);
       const auto paint = [&](DrawMesh& draw, int material) {
         if (material < 0 || material >= static_cast<int>(model.materials.size())) return;
         const mesh::Material& mat = model.materials[static_cast<std::size_t>(material)];
@@ -217,7 +249,7 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
           }
           break;
         case ColorMode::piece: {
-          const surgery::Pieces p = surgery::pieces(m);
+          const surgery::Pieces p = mesh_pieces();
           d.colors.resize(nv, 3);
           for (Eigen::Index v = 0; v < nv; ++v) {
             const int id = p.of_vertex[static_cast<std::size_t>(v)];

@@ -1,5 +1,6 @@
 #include "cgamesh/surgery/pieces.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "cgamesh/errors.hpp"
@@ -8,12 +9,17 @@
 
 namespace cgamesh::surgery {
 
-Pieces pieces(const mesh::Mesh& m) {
+Pieces pieces(const mesh::Mesh& m) { return pieces(m, weld_by_position(m.positions)); }
+
+Pieces pieces(const mesh::Mesh& m, std::span<const int> weld) {
   const auto nv = static_cast<int>(m.vertex_count());
   if (m.face_count() > 0 && (m.faces.minCoeff() < 0 || m.faces.maxCoeff() >= nv))
     throw InvalidInputError("pieces: mesh '" + m.name + "' has a face index outside its " + std::to_string(nv) +
                             " vertices");
-  const std::vector<int> weld = weld_by_position(m.positions);
+  if (weld.size() != static_cast<std::size_t>(nv) ||
+      std::any_of(weld.begin(), weld.end(), [&](int w) { return w < 0 || w >= nv; }))
+    throw InvalidInputError("pieces: the weld ids of mesh '" + m.name + "' do not fit its " + std::to_string(nv) +
+                            " vertices");
   UnionFind sets(static_cast<std::size_t>(nv));
   for (Eigen::Index f = 0; f < m.face_count(); ++f) {
     const int a = weld[static_cast<std::size_t>(m.faces(f, 0))];

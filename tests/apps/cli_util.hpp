@@ -2,10 +2,6 @@
 // Running the built `cgamesh` binary from a test: its exit code, stdout and stderr, scratch
 // directories, and readers for the OBJ / PLY files it writes.
 
-#include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -18,10 +14,13 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <sys/wait.h>
 #include <system_error>
+#include <unistd.h>
 #include <vector>
 
 #include <Eigen/Core>
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "support/temp_dir.hpp"
@@ -60,14 +59,14 @@ inline std::ostream& operator<<(std::ostream& os, const Result& r) {
   return os << "$ " << r.command << "\nexit " << r.code << "\nstdout:\n" << r.out << "\nstderr:\n" << r.err;
 }
 
-/// Runs `cgamesh ARGS...` through the shell; stdout through a pipe, stderr through a file in
-/// `err_dir` (removed afterwards).
-inline Result run_cli(const std::vector<std::string>& args, const fs::path& err_dir) {
+/// Runs `argv` (program first) through the shell; stdout through a pipe, stderr through a
+/// file in `err_dir` (removed afterwards).
+inline Result run_program(const std::vector<std::string>& argv, const fs::path& err_dir) {
   static std::atomic<int> counter{0};
-  const fs::path err_file = err_dir / ("stderr_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".txt");
+  const fs::path err_file =
+      err_dir / ("stderr_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".txt");
   Result r;
-  r.command = shell_quote(cli_path().string());
-  for (const std::string& a : args) r.command += " " + shell_quote(a);
+  for (const std::string& a : argv) r.command += (r.command.empty() ? "" : " ") + shell_quote(a);
   const std::string cmd = r.command + " 2> " + shell_quote(err_file.string());
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (pipe == nullptr) {
@@ -83,6 +82,13 @@ inline Result run_cli(const std::vector<std::string>& args, const fs::path& err_
   std::error_code ec;
   fs::remove(err_file, ec);
   return r;
+}
+
+/// Runs `cgamesh ARGS...` (run_program).
+inline Result run_cli(const std::vector<std::string>& args, const fs::path& err_dir) {
+  std::vector<std::string> argv{cli_path().string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run_program(argv, err_dir);
 }
 
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
@@ -176,7 +182,7 @@ struct Failure {
 /// Runs a command that must fail with `code`, say something containing `message` on stderr, and
 /// leave the output directory empty (no output, no temporary file).
 inline void expect_failure(const Failure& f, const std::vector<std::string>& args, int code, const std::string& message,
-                    const fs::path& output) {
+                           const fs::path& output) {
   const Result r = run_cli(args, f.inputs.path());
   EXPECT_EQ(r.code, code) << r;
   EXPECT_FALSE(r.err.empty()) << r;
@@ -184,6 +190,5 @@ inline void expect_failure(const Failure& f, const std::vector<std::string>& arg
   EXPECT_FALSE(fs::exists(output)) << output;
   EXPECT_TRUE(f.outputs.entries().empty()) << r << "\nleft in the output directory: " << f.outputs.entries().front();
 }
-
 
 }  // namespace cgamesh_cli_test

@@ -60,6 +60,29 @@ void validate(const Camera& camera);
 /// turntable step; positive turns the eye counter-clockwise seen from above).
 [[nodiscard]] Camera orbit(const Camera& camera, double radians);
 
+/// `camera` with its eye turned about the target: by `yaw` radians about the up vector and by
+/// `pitch` radians about the camera's right axis (positive looks from higher up), the pitch
+/// stopping 1° short of the up vector so the view never flips (a viewer's orbit drag).
+[[nodiscard]] Camera orbit(const Camera& camera, double yaw, double pitch);
+
+/// `camera` with eye and target moved in the view plane by (dx, dy) picture heights at the
+/// target's distance (a viewer's pan drag; +x right, +y up).
+[[nodiscard]] Camera pan(const Camera& camera, double dx, double dy);
+
+/// `camera` with its eye moved towards the target, to `factor` times its distance (< 1 zooms in).
+/// @throws InvalidInputError for a factor that is not positive and finite.
+[[nodiscard]] Camera dolly(const Camera& camera, double factor);
+
+/// A ray from the eye through a point of the picture.
+struct Ray {
+  Eigen::Vector3d origin;
+  Eigen::Vector3d direction;  ///< unit length
+};
+
+/// The ray from the eye of `camera` through the picture point (x, y) in pixels of a picture
+/// `width` × `height` (x right, y down from the top-left corner, pixel centres at +0.5).
+[[nodiscard]] Ray pixel_ray(const Camera& camera, int width, int height, double x, double y);
+
 /// The world → view matrix of `camera` (gluLookAt).
 [[nodiscard]] Eigen::Matrix4d view_matrix(const Camera& camera);
 

@@ -10,6 +10,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/render/scene.hpp"
+#include "cgamesh/surgery/surface_index.hpp"
 
 namespace cgamesh::render {
 
@@ -34,12 +35,19 @@ struct ModelSceneOptions {
   std::string joint;  ///< ColorMode::joint: the joint's name
   anim::SkinningMode skinning = anim::SkinningMode::cga;
   bool skeleton = false;  ///< joints as dots and bones (joint to parent) as lines, over the mesh
+  /// Pulls the pieces of a cut apart for inspection: each connected piece of a mesh
+  /// (surgery/pieces.hpp) is moved away from the mesh's centre by `explode` times the offset of
+  /// its own centre. 0 draws the model as it is.
+  double explode = 0;
 };
 
 /// One model placed in one pose.
 struct ModelInstance {
   const anim::RiggedModel* model = nullptr;
   anim::Pose pose;
+  /// When given (a LiveModel's index), pieces (the piece colours, explode) follow its welds, so
+  /// the sides of a cut or tear made in place count apart though they share rest positions.
+  const surgery::SurfaceIndex* index = nullptr;
 };
 
 /// The scene of `instances` (e.g. the two pieces of a cut, each in its pose). Positions are

@@ -3,6 +3,7 @@
 // same rest position (seam copies, split for UVs, normals or joints) count as one point, so a
 // textured model is one piece until a tool separates it.
 
+#include <span>
 #include <vector>
 
 #include "cgamesh/mesh/mesh.hpp"
@@ -18,5 +19,11 @@ struct Pieces {
 /// O(V + F) expected.
 /// @throws InvalidInputError for a face index out of range.
 [[nodiscard]] Pieces pieces(const mesh::Mesh& mesh);
+
+/// The same with the welding given: `weld` holds, per vertex, the id of the vertex it counts as
+/// (e.g. MeshIndex::weld of a LiveModel, where the copies a cut or a tear separated stay apart
+/// although they share a rest position).
+/// @throws InvalidInputError for a face index out of range, or weld ids that do not fit.
+[[nodiscard]] Pieces pieces(const mesh::Mesh& mesh, std::span<const int> weld);
 
 }  // namespace cgamesh::surgery

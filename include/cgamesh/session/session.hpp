@@ -1,0 +1,203 @@
+#pragma once
+// An interactive editing session on one rigged model: the animation state a viewer shows (clip,
+// time, blend mode, joint edits, keyframes generated on the fly), surgery in place on the model
+// as posed (surgery::LiveModel) with undo and redo, picking on the placed surface, and saving.
+// No window and no OpenGL: the viewer and its scripts drive it, and tests run it headless.
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cgamesh/anim/keyframes.hpp"
+#include "cgamesh/anim/pose.hpp"
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/surgery/cut.hpp"
+#include "cgamesh/surgery/drill.hpp"
+#include "cgamesh/surgery/live_model.hpp"
+#include "cgamesh/surgery/tear.hpp"
+
+namespace cgamesh::session {
+
+/// What one surgery operation did, for a panel, a log or a test.
+struct OperationReport {
+  std::string kind;                   ///< "cut", "tear", "tear step" or "drill"
+  double milliseconds = 0;            ///< the operation alone
+  double placement_milliseconds = 0;  ///< placing and indexing the model first (0 when the pose had not changed)
+  /// The `cgamesh` command that does the same to the model file (the tool's parameters and the
+  /// pose, numbers to 17 digits), with MODEL and OUT for the file names.
+  std::string command;
+  int faces = 0;  ///< faces of the model after the operation
+  std::vector<std::string> warnings;
+};
+
+/// A point of the placed surface hit by a ray.
+struct Pick {
+  int mesh = -1;
+  int face = -1;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    ///< world space, as placed in the current pose
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit face normal, facing the ray's origin
+  int vertex = -1;                                    ///< the corner of the face nearest the point
+  int joint = -1;  ///< the joint with the largest skin weight at `vertex`; −1 for a static mesh
+};
+
+struct SessionOptions {
+  std::size_t max_undo = 16;        ///< snapshots kept for undo (each is a copy of the model and its index)
+  anim::KeyframeOptions keyframes;  ///< how generate_clip() bakes the keys
+};
+
+class Session {
+ public:
+  /// Starts on the bind pose (no clip) of `model`.
+  /// @throws InvalidInputError when the model cannot be placed (NaN positions).
+  explicit Session(anim::RiggedModel model, SessionOptions options = {});
+
+  /// The model as edited so far (surgery, generated clips).
+  [[nodiscard]] const anim::RiggedModel& model() const noexcept { return live_.model(); }
+  /// The model's SurfaceIndex (its welds tell the pieces that surgery separated apart).
+  [[nodiscard]] const surgery::SurfaceIndex& index() const noexcept { return live_.index(); }
+
+  // ---- Animation ----
+  [[nodiscard]] int clip() const noexcept { return clip_; }  ///< −1: the bind pose
+  /// Shows clip `clip` (−1: the bind pose), keeping the time.
+  /// @throws InvalidInputError for a clip the model does not have.
+  void set_clip(int clip);
+  [[nodiscard]] double time() const noexcept { return time_; }
+  /// @throws InvalidInputError for a negative or non-finite time.
+  void set_time(double seconds);
+  /// Length of the current clip in seconds (0 for the bind pose).
+  [[nodiscard]] double duration() const noexcept;
+  [[nodiscard]] anim::BlendMode blend() const noexcept { return blend_; }
+  void set_blend(anim::BlendMode mode);
+
+  /// The edit of each edited joint, applied after the clip (one per joint).
+  [[nodiscard]] const std::vector<anim::JointEdit>& edits() const noexcept { return edits_; }
+  /// The edit of `joint` (the identity when it has none).
+  [[nodiscard]] anim::JointEdit edit_of(int joint) const noexcept;
+  /// Replaces the edit of edit.joint.
+  /// @throws InvalidInputError for a joint out of range, a zero or non-finite axis, a
+  ///         non-finite angle or translation, or a scale that is not positive.
+  void set_edit(const anim::JointEdit& edit);
+  void clear_edits();
+
+  /// The pose shown: the clip sampled at the time (or the bind pose), then the edits.
+  [[nodiscard]] anim::Pose pose() const;
+
+  /// Keys the current edits at the current time (paper section 4: a keyframe is the bind pose
+  /// with edits), replacing a key at the same time.
+  void add_key();
+  [[nodiscard]] const std::vector<anim::Keyframe>& keys() const noexcept { return keys_; }
+  void clear_keys();
+  /// Bakes the keys into a new clip of the model (anim::generate_clip with options.keyframes and
+  /// `name`), selects it and clears the edits, so that playing shows the generated animation.
+  /// @throws InvalidInputError for an empty name, or as anim::generate_clip (e.g. fewer than
+  ///         two keys).
+  void generate_clip(const std::string& name);
+
+  // ---- Surgery on the model as posed now (placed with `cga` skinning, eq. 17) ----
+  /// Cuts with the plane n·x = d. Without options.cap the cut is made in place (surgery::cut
+  /// on the LiveModel: the pieces stay in their meshes); with it, both capped pieces
+  /// (surgery::cut) become the meshes of the model, piece A's first.
+  /// @throws as surgery::cut; the session is then unchanged.
+  OperationReport cut(const Eigen::Vector3d& normal, double d, const surgery::CutOptions& options = {});
+  /// Tears along the path of `scalpel` (≥ 2 blade positions, Algorithm 2), in place.
+  /// @throws as surgery::tear; the session is then unchanged.
+  OperationReport tear(std::span<const surgery::Scalpel> scalpel, const surgery::TearOptions& options = {});
+  /// Drills with the cylinder of `radius` from `base` to `tip`, in place.
+  /// @throws as surgery::drill; the session is then unchanged.
+  OperationReport drill(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
+                        const surgery::DrillOptions& options = {});
+
+  /// A tear made by dragging: begin_stroke(), then stroke_step() per blade position, each
+  /// step past the first torn in place at once (so the tear grows while dragging), then
+  /// end_stroke(), which makes the whole stroke one tear over all its steps with `options`
+  /// (the opening spread over the whole tear) and one undo step.
+  void begin_stroke();
+  /// Adds a blade position; from the second on, tears the step from the previous one in place
+  /// (without opening). A step the blade cannot make (it misses the surface, or the path
+  /// cannot be followed) is dropped: the report is empty then and `error` says why.
+  std::optional<OperationReport> stroke_step(const surgery::Scalpel& blade, std::string* error = nullptr);
+  [[nodiscard]] bool stroking() const noexcept { return stroking_; }
+  [[nodiscard]] std::span<const surgery::Scalpel> stroke() const noexcept { return stroke_; }
+  /// Ends the stroke; with fewer than two positions kept nothing changes (no report).
+  /// @throws as tear(); the model is then as before the stroke.
+  std::optional<OperationReport> end_stroke(const surgery::TearOptions& options = {});
+
+  [[nodiscard]] bool can_undo() const noexcept { return !undo_.empty() && !stroking_; }
+  [[nodiscard]] bool can_redo() const noexcept { return !redo_.empty() && !stroking_; }
+  /// Goes back to before the last operation; false when there is none.
+  bool undo();
+  /// Makes the last undone operation again; false when there is none.
+  bool redo();
+  /// The model as loaded: every operation and generated clip gone, undo and redo cleared.
+  void reset();
+
+  /// The first point of the placed surface (current pose) on the ray, if any.
+  /// @throws InvalidInputError for a non-finite origin or a zero direction.
+  [[nodiscard]] std::optional<Pick> pick(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction);
+
+  /// The blade of a dragged tear at a picked point: from `depth` before the point along the
+  /// view direction (the handle, above the surface) to `depth` behind it (the tip, below).
+  [[nodiscard]] static surgery::Scalpel blade(const Pick& at, const Eigen::Vector3d& view_direction, double depth);
+
+  /// Length of the diagonal of the placed model's bounding box (the scale of tools).
+  [[nodiscard]] double size();
+
+  /// Writes the model: .glb/.gltf with skin, skeleton and clips; .obj/.ply as posed now
+  /// (skinned with `mode`). All or nothing.
+  /// @throws InvalidInputError for another extension; WriteError when it cannot be written.
+  void save(const std::filesystem::path& path, anim::SkinningMode mode = anim::SkinningMode::cga) const;
+
+ private:
+  struct Snapshot {
+    surgery::LiveModel live;
+    long placed_version;
+  };
+  /// Places and indexes the model in the current pose unless it already is; returns the ms spent.
+  double place_now();
+  /// Runs `operation` on the placed model as one undo step: a snapshot first, dropped again
+  /// if the operation throws (the model is then as before).
+  template <class Operation>
+  OperationReport operate(Operation&& operation);
+  void push_undo();
+  /// Drops the oldest snapshots beyond options.max_undo.
+  void trim_undo();
+  /// Makes `model` the session's, placed in the current pose.
+  void replace_model(anim::RiggedModel model);
+  /// The current clip, time, blend and edits applied to `model` (a clip it lacks: the bind pose).
+  [[nodiscard]] anim::Pose pose_of(const anim::RiggedModel& model) const;
+  /// A clip that `model` no longer has (a generated clip undone or reset away) is unselected.
+  void after_model_change(const anim::RiggedModel& model);
+  void after_model_change();
+  /// Back to the snapshot taken when the stroke began.
+  void end_stroke_discarding();
+  /// " --anim I --time T --blend B --set ..." for the current pose.
+  [[nodiscard]] std::string pose_arguments() const;
+  [[nodiscard]] std::string tear_command(std::span<const surgery::Scalpel> scalpel, const surgery::TearOptions& options,
+                                         const std::string& pose) const;
+  /// Corners of the box around the placed model (lo > hi when it has no vertex).
+  [[nodiscard]] std::pair<Eigen::Vector3d, Eigen::Vector3d> placed_bounds() const;
+
+  SessionOptions options_;
+  anim::RiggedModel original_;
+  surgery::LiveModel live_;
+  long pose_version_ = 0;    ///< bumped by every change of the pose
+  long placed_version_ = 0;  ///< the pose version live_ is placed in (−1: none)
+  int clip_ = -1;
+  double time_ = 0;
+  anim::BlendMode blend_ = anim::BlendMode::format;
+  std::vector<anim::JointEdit> edits_;
+  std::vector<anim::Keyframe> keys_;
+  std::vector<Snapshot> undo_, redo_;
+  bool stroking_ = false;
+  std::vector<surgery::Scalpel> stroke_;
+  std::string stroke_pose_;  ///< pose_arguments() when the stroke began
+};
+
+}  // namespace cgamesh::session
