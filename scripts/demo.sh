@@ -36,6 +36,8 @@ ls -1 out
 for spec in cesiumman_bend cesiumman_handles cesiumman_ik; do
   "$cli" deform "$model" --spec data/specs/$spec.json -o out/$spec.obj
 done
+# The same bend written with its rig: the edited rest shape re-animates.
+"$cli" deform "$model" --spec data/specs/cesiumman_bend.json -o out/cesiumman_bend.glb
 
 # Pictures of the results (headless: EGL, no display or GPU needed). The man faces +x, so the
 # `right` view sees his front. Re-posing edits follow the papers' figures: Kamarianakis &
@@ -59,7 +61,8 @@ render=("$cli" render --size "${CGAMESH_PICTURE_SIZE:-960x720}")
 "${render[@]}" out/cesium_drilled.glb --anim 0 --time 0.5 --camera 0.6,1.1,1.6,0.01,0.9,0,0,1,0 --frame \
   -o out/cesium_drilled.png
 for spec in cesiumman_bend cesiumman_handles cesiumman_ik; do
-  # The deformation works in mesh space, where CesiumMan stands along +z.
-  "${render[@]}" out/$spec.obj --camera 1,0.4,0.75,0,0,0.75,0,0,1 --frame -o out/$spec.png
+  # The specs work in world space (the bind pose `info` boxes), where CesiumMan stands along +y.
+  "${render[@]}" out/$spec.obj --camera 1,0.75,-0.4,0,0.75,0,0,1,0 --frame -o out/$spec.png
 done
+"${render[@]}" out/cesiumman_bend.glb --anim 0 --time 0.5 --view right -o out/cesiumman_bend_walking.png
 echo "demo: pictures in out/*.png"

@@ -1,13 +1,18 @@
 // The deform command: the shipped example specs run, identity keys keep the mesh, bad specs
-// name the field and exit 2, an unreadable spec exits 3.
+// name the field and exit 2, an unreadable spec exits 3; world space by default for a rigged
+// model, a .glb that keeps the rig, parts without a handle.
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <span>
 #include <string>
 
 #include "anim/model_fixtures.hpp"
 #include "apps/cli_util.hpp"
+#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "deform/deform_fixtures.hpp"
 
 namespace {
 
@@ -80,6 +85,84 @@ TEST(CliDeform, BadSpecsNameTheField) {
       run_cli({"deform", model, "--spec", (dir.path() / "spec_dir.json").string(), "-o", out}, dir.path());
   EXPECT_EQ(directory.code, 3) << directory;
   EXPECT_NE(directory.err.find("is a directory"), std::string::npos) << directory;
+}
+
+// World space is the default for a rigged model; a .glb keeps skin, skeleton and clips, and its
+// bind pose is the deformed shape the .obj holds.
+TEST(CliDeform, GltfKeepsTheRigAndReposesToTheObj) {
+  TempDir dir;
+  const fs::path s = spec("cesiumman_handles.json");  // world space, the default
+  const fs::path obj = dir.path() / "out.obj", glb = dir.path() / "out.glb";
+  const std::string model = cgamesh_test::demo_model().string();
+  const Result r = run_ok(dir, {"deform", model, "--spec", s.string(), "-o", obj.string(), "--json"});
+  EXPECT_EQ(parse_json(r)["pose"]["space"], "world");
+  run_ok(dir, {"deform", model, "--spec", s.string(), "-o", glb.string()});
+  const auto original = cgamesh::io::load_model(model);
+  const auto back = cgamesh::io::load_model(glb);
+  ASSERT_EQ(back.meshes.size(), 1U);
+  EXPECT_EQ(back.clips.size(), original.clips.size());
+  EXPECT_EQ(back.skeleton.size(), original.skeleton.size());
+  EXPECT_FALSE(back.meshes[0].skin.empty());
+  const Points reposed = cgamesh::deform::rest_positions(back, cgamesh::deform::DeformSpace::world)[0].cast<double>();
+  const Points written = read_obj_vertices(obj);
+  EXPECT_LT(max_distance(reposed, written), 1e-4 * diagonal(written));
+  const Points rest = cgamesh::deform::rest_positions(original, cgamesh::deform::DeformSpace::world)[0].cast<double>();
+  EXPECT_GT(max_distance(rest, written), 1e-2 * diagonal(written));
+}
+
+TEST(CliDeform, SpaceIsMeshForStaticModelsAndWhenTheSpecSaysSo) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out.obj";
+  const fs::path s = write_spec(dir, R"({"method": "harmonic", "handles": [[0, 1, 2], [500, 501]], "keys": [{}, {}]})");
+  const Result plain = run_ok(
+      dir, {"deform", cgamesh_test::asset("spot.obj").string(), "--spec", s.string(), "-o", out.string(), "--json"});
+  EXPECT_EQ(parse_json(plain)["pose"]["space"], "mesh");
+  const fs::path in_mesh =
+      write_spec(dir, R"({"method": "harmonic", "space": "mesh", "handles": [[0], [1500]], "keys": [{}, {}]})");
+  const Result rigged = run_ok(
+      dir, {"deform", cgamesh_test::demo_model().string(), "--spec", in_mesh.string(), "-o", out.string(), "--json"});
+  EXPECT_EQ(parse_json(rigged)["pose"]["space"], "mesh");
+  const Result example = run_ok(dir, {"deform", cgamesh_test::demo_model().string(), "--spec",
+                                      spec("cesiumman_bend.json").string(), "-o", out.string(), "--json"});
+  EXPECT_EQ(parse_json(example)["pose"]["space"], "world");
+  const Result bad =
+      run_cli({"deform", cgamesh_test::asset("spot.obj").string(), "--spec",
+               write_spec(dir, R"({"method": "harmonic", "space": "screen", "handles": [[0]], "keys": [{}]})").string(),
+               "-o", out.string()},
+              dir.path());
+  EXPECT_EQ(bad.code, 2) << bad;
+  EXPECT_TRUE(contains(bad.err, "spec.space")) << bad;
+}
+
+// A second cylinder with no handle vertex follows the nearest handle's key, or stays.
+TEST(CliDeform, FreePartsMoveWithTheNearestHandleOrStay) {
+  TempDir dir;
+  const cgamesh::mesh::Mesh one = cgamesh_deform_test::cylinder(16, 6);
+  cgamesh::mesh::Mesh two;
+  two.positions.resize(2 * one.vertex_count(), 3);
+  two.positions << one.positions, one.positions.rowwise() + Eigen::RowVector3f(0, 0, 3);
+  two.faces.resize(2 * one.face_count(), 3);
+  two.faces << one.faces, one.faces.array() + static_cast<int>(one.vertex_count());
+  const fs::path input = dir.path() / "two.obj";
+  cgamesh::io::write_mesh(std::span<const cgamesh::mesh::Mesh>(&two, 1),
+                          std::span<const cgamesh::mesh::RowMatrixXf<3>>(&two.positions, 1), input);
+  const Points rest = cgamesh::io::load_model(input).meshes.at(0).positions.cast<double>();
+  const std::string base = R"({"method": "harmonic", "handles": [{"box": [-2, -2, -1, 2, 2, 0.01]},
+      {"box": [-2, -2, 0.99, 2, 2, 1.01]}], "keys": [{}, {"translate": [0.5, 0, 0]}])";
+  for (const std::string free : {"nearest", "keep"}) {
+    const fs::path out = dir.path() / ("out_" + free + ".obj");
+    const Result r = run_ok(
+        dir, {"deform", input.string(), "--spec",
+              write_spec(dir, base + R"(, "free_parts": ")" + free + "\"}").string(), "-o", out.string(), "--json"});
+    EXPECT_EQ(parse_json(r)["free_vertices"], (rest.col(2).array() > 2).count());
+    const Points p = read_obj_vertices(out);
+    ASSERT_EQ(p.rows(), rest.rows());
+    for (Eigen::Index v = 0; v < p.rows(); ++v) {
+      if (rest(v, 2) > 2) {
+        EXPECT_NEAR(p(v, 0), rest(v, 0) + (free == "nearest" ? 0.5 : 0.0), 1e-5) << free << v;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -1,0 +1,193 @@
+#pragma once
+// The deformation spec (README.md, "Deformation specs"): a JSON description of a motor-handle
+// deformation — method, handles, keys, options — parsed into a DeformSpec, bound once to one
+// mesh of a model (the harmonic solve and the blend weights: paper sections III.A, IV, VIII) and
+// applied per frame to any keys (eq. 2). The CLI, viewers and bindings share this one
+// implementation, so its errors name the spec's fields (`spec.keys[1].rotate: ...`).
+//
+// Coordinates: a spec acts in mesh space (the positions as stored) or in world space (the bind
+// pose that `cgamesh info` prints: each vertex skinned by its joints' bind matrices, a static
+// mesh placed by its node). Selections and key centres are read in that space.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/cga/multivector.hpp"
+#include "cgamesh/deform/fabrik.hpp"
+#include "cgamesh/deform/harmonic_field.hpp"
+#include "cgamesh/deform/motor_blend.hpp"
+#include "cgamesh/deform/spline_deform.hpp"
+#include "cgamesh/mesh/mesh.hpp"
+
+namespace cgamesh::deform {
+
+enum class DeformMethod {
+  spline,    ///< spline-aligned (III): two handles, the keys along the harmonic parameter
+  harmonic,  ///< harmonic coordinates (IV): one key per handle
+};
+
+enum class DeformSpace {
+  mesh,   ///< the stored rest positions
+  world,  ///< the bind pose in world space (what `cgamesh info` boxes)
+};
+
+/// What happens to a connected part of the mesh that holds no handle vertex (its harmonic
+/// field would be undetermined).
+enum class FreeParts {
+  nearest,  ///< moves rigidly with the motor of the handle nearest to the part's centroid
+  keep,     ///< stays in place
+};
+
+/// A handle's vertex set as the spec gives it.
+struct HandleSelection {
+  enum class Kind { indices, sphere, box };
+  Kind kind = Kind::indices;
+  std::vector<int> indices;       ///< Kind::indices: vertex indices of the mesh (≥ 0)
+  std::array<double, 6> shape{};  ///< sphere: x, y, z, r; box: x0, y0, z0, x1, y1, z1
+};
+
+/// A key: x ↦ scale·R(axis, degrees)(x − center) + center + translate.
+struct KeyTransform {
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< non-zero
+  double degrees = 0;
+  Eigen::Vector3d translate = Eigen::Vector3d::Zero();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double scale = 1;  ///< finite, > 0: a dilating versor (motor_blend.hpp)
+
+  /// The key as the versor T(center + translate) D(scale) R T(−center).
+  /// @throws InvalidInputError for a zero axis or a scale that is not finite and > 0.
+  [[nodiscard]] cga::Versor<double> versor() const;
+};
+
+/// A FABRIK chain (III.C) whose solved joint motors become the keys.
+struct IkChain {
+  std::vector<Eigen::Vector3d> joints;  ///< #J rest joint positions
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();
+};
+
+/// A parsed spec: every field typed and checked against itself (not yet against a mesh).
+struct DeformSpec {
+  DeformMethod method = DeformMethod::harmonic;
+  int mesh = 0;                      ///< index of the model's mesh to deform
+  std::optional<DeformSpace> space;  ///< unset: default_space() of the model
+  LaplacianWeights weights = LaplacianWeights::mean_value;
+  std::vector<HandleSelection> handles;
+  std::vector<KeyTransform> keys;  ///< empty when `ik` is set
+  std::optional<IkChain> ik;       ///< spline only
+  SplineBasis basis = SplineBasis::bspline;
+  int degree = 3;
+  FreeParts free_parts = FreeParts::nearest;
+};
+
+/// Parses a spec from JSON text.
+/// @param[in] text    the JSON document (an object)
+/// @param[in] source  where it comes from (a path), for messages
+/// @throws InvalidInputError "spec SOURCE is not valid JSON: ...", "spec SOURCE: expected a JSON
+///         object", or "spec.FIELD: ..." naming the first bad field (unknown field, bad value,
+///         both keys and ik). Whether the method and basis take the number of keys is checked
+///         by BoundDeformer, after the selections.
+[[nodiscard]] DeformSpec parse_spec(std::string_view text, const std::string& source);
+
+/// Reads and parses a spec file.
+/// @param[in] path  the spec file
+/// @throws FileError when it cannot be read or is a directory; InvalidInputError as parse_spec().
+[[nodiscard]] DeformSpec read_spec(const std::filesystem::path& path);
+
+/// The space a spec without "space" acts in: world when some mesh of the model is skinned
+/// (boxes from `info` then select what the user sees), mesh otherwise.
+[[nodiscard]] DeformSpace default_space(const anim::RiggedModel& model) noexcept;
+
+/// Rest positions of every mesh of `model` in `space` (world: the bind pose, matrix skinning,
+/// eq. 16).
+/// @throws InvalidInputError as anim::make_palette().
+[[nodiscard]] std::vector<mesh::RowMatrixXf<3>> rest_positions(const anim::RiggedModel& model, DeformSpace space);
+
+struct SpecBindOptions {
+  MotorBlendOptions blend;  ///< threads of apply()
+};
+
+/// A spec bound to one mesh of a model: the selections resolved, the harmonic field solved and
+/// the blend weights built once; apply() then costs one blend per vertex (eq. 2), for the spec's
+/// keys or any others.
+class BoundDeformer {
+ public:
+  /// Binds `spec` to mesh `spec.mesh` of `model` (sections III.A, IV). Connected parts without a
+  /// handle vertex (parts as the harmonic field sees them: welded positions joined by a
+  /// non-degenerate triangle) are moved as `spec.free_parts` says.
+  /// @param[in] spec   a parsed spec
+  /// @param[in] model  the model; it may be destroyed after binding
+  /// @throws InvalidInputError "spec.mesh: ..." for a mesh index out of range, "spec.handles[h]:
+  ///         ..." for an index out of range, a selection of no vertex or a vertex (or welded
+  ///         position) shared with another handle; "spec.handles", "spec.keys" or
+  ///         "spec.ik.joints: ..." for a count the method or basis cannot take (harmonic: one key
+  ///         per handle; spline: 2 handles, keys as spline_weights() takes them); "spec.ik: ..." when FABRIK refuses
+  ///         the chain; "spec.space: ..." for world space on a mesh whose bind skinning is singular at a vertex;
+  ///         SolverError as harmonic_precompute().
+  BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& model, const SpecBindOptions& options = {});
+
+  [[nodiscard]] int mesh_index() const noexcept { return mesh_; }
+  [[nodiscard]] DeformSpace space() const noexcept { return space_; }
+  [[nodiscard]] Eigen::Index vertex_count() const noexcept { return rest_.rows(); }
+  /// #n the spec's keys as versors: its key transforms, or the FABRIK motors of its IK chain.
+  [[nodiscard]] const std::vector<cga::Versor<double>>& keys() const noexcept { return keys_; }
+  /// The FABRIK solution when the spec has an IK chain.
+  [[nodiscard]] const std::optional<FabrikResult>& ik() const noexcept { return ik_; }
+  /// #V×3 rest positions of the mesh in space() (what apply() deforms and handles select).
+  [[nodiscard]] const mesh::RowMatrixXf<3>& rest_positions() const noexcept { return rest_; }
+  /// Per handle, its vertex indices in the mesh (sorted for boxes and spheres, as given for
+  /// index lists): what a viewer draws, at rest_positions() or at the apply() result.
+  [[nodiscard]] const std::vector<std::vector<int>>& handles() const noexcept { return handles_; }
+  /// Vertices of the parts that hold no handle vertex, ascending.
+  [[nodiscard]] const std::vector<int>& free_vertices() const noexcept { return free_; }
+
+  /// One frame: every vertex by its blended motor under `keys` (eq. 2); a free part by its
+  /// handle's key (FreeParts::nearest) or not at all (keep).
+  /// @param[in]  keys  #n key versors (TRS similarities), in the order of keys()
+  /// @param[out] out   #V×3 positions in space() (resized)
+  /// @throws InvalidInputError when keys has the wrong size or a key is not a similarity.
+  void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const;
+  /// The same, returned.
+  [[nodiscard]] mesh::RowMatrixXf<3> apply(std::span<const cga::Versor<double>> keys) const;
+
+  /// Positions in space() as rest positions in mesh space: in world space each vertex through
+  /// the inverse of its blended bind map x ↦ A x + b (eq. 16) — exact, since re-skinning uses the
+  /// same per-vertex A and b — so that the edited mesh, skinned in the bind pose, is at `positions`.
+  /// @param[in] positions  #V×3, e.g. apply()'s result
+  /// @throws InvalidInputError when positions has the wrong size.
+  [[nodiscard]] mesh::RowMatrixXf<3> to_mesh_space(const mesh::RowMatrixXf<3>& positions) const;
+
+  /// The model with the mesh's rest shape replaced by `positions` (through to_mesh_space()), its
+  /// skin, skeleton and clips kept, so that it re-animates; its normals are dropped when it has
+  /// any (they were the rest shape's).
+  /// @param[in] model      the model bound (same meshes)
+  /// @param[in] positions  #V×3 in space()
+  /// @throws InvalidInputError when the model does not have the bound mesh's vertex count.
+  [[nodiscard]] anim::RiggedModel deformed_model(const anim::RiggedModel& model,
+                                                 const mesh::RowMatrixXf<3>& positions) const;
+
+ private:
+  int mesh_ = 0;
+  DeformSpace space_ = DeformSpace::mesh;
+  std::vector<cga::Versor<double>> keys_;
+  std::optional<FabrikResult> ik_;
+  mesh::RowMatrixXf<3> rest_;
+  std::vector<std::vector<int>> handles_;
+  std::vector<int> free_;
+  /// Per free vertex, the key that moves it, or −1 (kept).
+  std::vector<int> free_key_;
+  /// Mesh vertex of each vertex the blend deforms; empty when it deforms them all.
+  std::vector<int> blended_;
+  std::optional<MotorBlend> blend_;
+  /// World space: #V inverse bind maps [A⁻¹  −A⁻¹ b].
+  std::vector<Eigen::Matrix<double, 3, 4>> to_mesh_;
+};
+
+}  // namespace cgamesh::deform

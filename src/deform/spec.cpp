@@ -1,0 +1,465 @@
+#include "cgamesh/deform/spec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include <Eigen/LU>
+#include <nlohmann/json.hpp>
+
+#include "cgamesh/anim/pose.hpp"
+#include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/cga/point_map.hpp"
+#include "cgamesh/cga/versors.hpp"
+#include "cgamesh/deform/harmonic_handles.hpp"
+#include "cgamesh/errors.hpp"
+#include "cgamesh/mesh/union_find.hpp"
+#include "cgamesh/mesh/weld.hpp"
+
+namespace cgamesh::deform {
+namespace {
+
+using Json = nlohmann::json;
+
+[[noreturn]] void bad(const std::string& field, const std::string& what) {
+  throw InvalidInputError("spec." + field + ": " + what);
+}
+
+/// Exactly `count` finite numbers.
+std::vector<double> numbers(const Json& j, std::size_t count, const std::string& field) {
+  if (!j.is_array() || j.size() != count) bad(field, "expected an array of " + std::to_string(count) + " numbers");
+  std::vector<double> out;
+  for (const Json& x : j) {
+    if (!x.is_number() || !std::isfinite(x.get<double>()))
+      bad(field, "expected " + std::to_string(count) + " finite numbers");
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+
+Eigen::Vector3d vector3(const Json& j, const std::string& field) {
+  const auto v = numbers(j, 3, field);
+  return {v[0], v[1], v[2]};
+}
+
+template <class E>
+E choice(const Json& spec, const std::string& field, const std::map<std::string, E>& names, E fallback) {
+  if (!spec.contains(field)) return fallback;
+  const Json& j = spec[field];
+  if (j.is_string()) {
+    const auto it = names.find(j.get<std::string>());
+    if (it != names.end()) return it->second;
+  }
+  std::string list;
+  for (const auto& [name, value] : names) list += (list.empty() ? "" : ", ") + name;
+  bad(field, "expected one of " + list);
+}
+
+int integer(const Json& spec, const std::string& field, int fallback) {
+  if (!spec.contains(field)) return fallback;
+  if (!spec[field].is_number_integer()) bad(field, "expected an integer");
+  return spec[field].get<int>();
+}
+
+void only_fields(const Json& j, const std::vector<std::string>& names, const std::string& prefix) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  for (const auto& [name, value] : j.items())
+    if (std::find(names.begin(), names.end(), name) == names.end()) bad(prefix + name, "unknown field (" + list + ")");
+}
+
+/// A handle: vertex indices, {"sphere": [x, y, z, r]} or {"box": [x0, y0, z0, x1, y1, z1]}.
+HandleSelection parse_handle(const Json& j, const std::string& field) {
+  HandleSelection h;
+  if (j.is_array()) {
+    for (const Json& x : j) {
+      if (!x.is_number_integer() || x.get<long long>() < 0 || x.get<long long>() > std::numeric_limits<int>::max())
+        bad(field, "expected vertex indices (integers >= 0)");
+      h.indices.push_back(x.get<int>());
+    }
+    if (h.indices.empty()) bad(field, "selects no vertex");
+  } else if (j.is_object() && j.size() == 1 && (j.contains("sphere") || j.contains("box"))) {
+    const bool sphere = j.contains("sphere");
+    h.kind = sphere ? HandleSelection::Kind::sphere : HandleSelection::Kind::box;
+    const auto v = sphere ? numbers(j["sphere"], 4, field + ".sphere") : numbers(j["box"], 6, field + ".box");
+    std::copy(v.begin(), v.end(), h.shape.begin());
+  } else {
+    bad(field, "expected a list of vertex indices, {\"sphere\": [x, y, z, r]} or {\"box\": [x0, y0, z0, x1, y1, z1]}");
+  }
+  return h;
+}
+
+/// A key: x -> scale R (x - center) + center + translate, every part optional.
+KeyTransform parse_key(const Json& j, const std::string& field) {
+  if (!j.is_object()) bad(field, "expected an object with rotate, translate, scale and/or center");
+  only_fields(j, {"rotate", "translate", "scale", "center"}, field + ".");
+  KeyTransform k;
+  if (j.contains("translate")) k.translate = vector3(j["translate"], field + ".translate");
+  if (j.contains("center")) k.center = vector3(j["center"], field + ".center");
+  if (j.contains("rotate")) {
+    const auto v = numbers(j["rotate"], 4, field + ".rotate");
+    k.axis = {v[0], v[1], v[2]};
+    if (k.axis.norm() == 0) bad(field + ".rotate", "the axis is the zero vector");
+    k.degrees = v[3];
+  }
+  if (j.contains("scale")) {
+    if (!j["scale"].is_number() || !(j["scale"].get<double>() > 0) || !std::isfinite(j["scale"].get<double>()))
+      bad(field + ".scale", "expected a finite number > 0");
+    k.scale = j["scale"].get<double>();
+  }
+  return k;
+}
+
+IkChain parse_ik(const Json& ik) {
+  if (!ik.is_object() || !ik.contains("joints") || !ik["joints"].is_array() || !ik.contains("target"))
+    bad("ik", "expected {\"joints\": [[x, y, z], ...], \"target\": [x, y, z]}");
+  IkChain chain;
+  for (std::size_t i = 0; i < ik["joints"].size(); ++i)
+    chain.joints.push_back(vector3(ik["joints"][i], "ik.joints[" + std::to_string(i) + "]"));
+  chain.target = vector3(ik["target"], "ik.target");
+  return chain;
+}
+
+/// Checks that the method and basis take the spec's number of keys.
+void check_key_count(const DeformSpec& s) {
+  const std::size_t n = s.ik ? s.ik->joints.size() : s.keys.size();
+  if (s.method == DeformMethod::harmonic) {
+    if (s.handles.size() != n)
+      bad("keys", std::to_string(n) + " keys for " + std::to_string(s.handles.size()) + " handles (one per handle)");
+    return;
+  }
+  if (s.handles.size() != 2) bad("handles", "the spline method takes 2 handles (lambda = 0 and lambda = 1)");
+  SplineOptions options;
+  options.basis = s.basis;
+  options.degree = s.degree;
+  std::vector<double> probe(n);
+  try {
+    spline_weights(options, 0.0, probe);
+  } catch (const InvalidInputError& e) {
+    bad(s.ik ? "ik.joints" : "keys", e.what());
+  }
+}
+
+/// The vertices a selection picks from `positions` (#V×3, in the spec's space).
+std::vector<int> select(const HandleSelection& h, const mesh::RowMatrixXf<3>& positions, const std::string& field) {
+  const Eigen::Index count = positions.rows();
+  if (h.kind == HandleSelection::Kind::indices) {
+    for (const int v : h.indices)
+      if (v >= count) bad(field, "expected vertex indices in [0, " + std::to_string(count) + ")");
+    return h.indices;
+  }
+  const auto& v = h.shape;
+  std::vector<int> out;
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const Eigen::Vector3d p = positions.row(i).transpose().cast<double>();
+    const bool in = h.kind == HandleSelection::Kind::sphere ? (p - Eigen::Vector3d(v[0], v[1], v[2])).norm() <= v[3]
+                                                            : (p.array() >= Eigen::Array3d(v[0], v[1], v[2])).all() &&
+                                                                  (p.array() <= Eigen::Array3d(v[3], v[4], v[5])).all();
+    if (in) out.push_back(static_cast<int>(i));
+  }
+  if (out.empty()) bad(field, "selects no vertex");
+  return out;
+}
+
+/// Per vertex, its connected part as the harmonic field sees it (harmonic_precompute): welded
+/// positions joined by an edge of non-zero weight; numbered by their smallest welded node.
+std::vector<int> parts_of(const mesh::Mesh& shape, LaplacianWeights weights) {
+  std::vector<int> node = mesh::weld_by_position(shape.positions);
+  const int node_count = mesh::number_classes(node);
+  const Eigen::SparseMatrix<double> w = laplacian_edge_weights(shape, node, node_count, weights);
+  mesh::UnionFind parts(static_cast<std::size_t>(node_count));
+  for (int col = 0; col < w.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(w, col); it; ++it) parts.unite(static_cast<int>(it.row()), col);
+  for (int& n : node) n = parts.find(n);
+  return node;
+}
+
+/// Per free vertex, the key that moves its part: that of the handle with the vertex nearest to
+/// the part's centroid (spline: handle 0 is the first key, handle 1 the last), or −1 (keep).
+std::vector<int> free_part_keys(const DeformSpec& spec, const mesh::RowMatrixXf<3>& rest,
+                                const std::vector<std::vector<int>>& handles, const std::vector<int>& free,
+                                const std::vector<int>& part, std::size_t key_count) {
+  if (spec.free_parts == FreeParts::keep) return std::vector<int>(free.size(), -1);
+  std::vector<Eigen::Vector3d> sum(part.size(), Eigen::Vector3d::Zero());
+  std::vector<int> count(part.size(), 0);
+  for (const int v : free) {
+    sum[static_cast<std::size_t>(part[static_cast<std::size_t>(v)])] += rest.row(v).transpose().cast<double>();
+    ++count[static_cast<std::size_t>(part[static_cast<std::size_t>(v)])];
+  }
+  std::vector<int> key_of_part(part.size(), -1);
+  for (std::size_t p = 0; p < part.size(); ++p) {
+    if (count[p] == 0) continue;
+    const Eigen::Vector3d centroid = sum[p] / count[p];
+    double best = INFINITY;
+    for (std::size_t h = 0; h < handles.size(); ++h)
+      for (const int v : handles[h]) {
+        const double d = (rest.row(v).transpose().cast<double>() - centroid).squaredNorm();
+        if (d < best) {
+          best = d;
+          const bool last = spec.method == DeformMethod::spline && h == 1;
+          key_of_part[p] = last ? static_cast<int>(key_count) - 1 : static_cast<int>(h);
+        }
+      }
+  }
+  std::vector<int> out;
+  for (const int v : free) out.push_back(key_of_part[static_cast<std::size_t>(part[static_cast<std::size_t>(v)])]);
+  return out;
+}
+
+}  // namespace
+
+cga::Versor<double> KeyTransform::versor() const {
+  if (!(scale > 0) || !std::isfinite(scale)) throw InvalidInputError("key: the scale must be a finite number > 0");
+  const cga::Rotor<double> r = cga::rotor(axis, degrees * std::numbers::pi / 180.0);
+  return cga::project<cga::mask::versor>(cga::translator(Eigen::Vector3d(center + translate)) *
+                                         cga::similarity(Eigen::Vector3d::Zero().eval(), r, scale) *
+                                         cga::translator(Eigen::Vector3d(-center)));
+}
+
+DeformSpec parse_spec(std::string_view text, const std::string& source) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    throw InvalidInputError("spec " + source + " is not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw InvalidInputError("spec " + source + ": expected a JSON object");
+  only_fields(j, {"method", "mesh", "space", "weights", "handles", "keys", "basis", "degree", "ik", "free_parts"}, "");
+  DeformSpec s;
+  if (!j.contains("method")) bad("method", "missing (spline or harmonic)");
+  s.method = choice<DeformMethod>(j, "method", {{"spline", DeformMethod::spline}, {"harmonic", DeformMethod::harmonic}},
+                                  DeformMethod::spline);
+  s.mesh = integer(j, "mesh", 0);
+  if (s.mesh < 0) bad("mesh", "expected an index >= 0");
+  if (j.contains("space"))
+    s.space = choice<DeformSpace>(j, "space", {{"mesh", DeformSpace::mesh}, {"world", DeformSpace::world}},
+                                  DeformSpace::mesh);
+  s.weights = choice<LaplacianWeights>(
+      j, "weights", {{"mean_value", LaplacianWeights::mean_value}, {"cotangent", LaplacianWeights::cotangent}},
+      LaplacianWeights::mean_value);
+  s.free_parts = choice<FreeParts>(j, "free_parts", {{"nearest", FreeParts::nearest}, {"keep", FreeParts::keep}},
+                                   FreeParts::nearest);
+  s.basis = choice<SplineBasis>(j, "basis",
+                                {{"linear", SplineBasis::linear},
+                                 {"quadratic_lagrange", SplineBasis::quadratic_lagrange},
+                                 {"bezier", SplineBasis::bezier},
+                                 {"bspline", SplineBasis::bspline}},
+                                SplineBasis::bspline);
+  s.degree = integer(j, "degree", 3);
+  if (s.degree < 1) bad("degree", "expected an integer >= 1");
+
+  if (!j.contains("handles") || !j["handles"].is_array()) bad("handles", "missing, or not an array");
+  for (std::size_t h = 0; h < j["handles"].size(); ++h)
+    s.handles.push_back(parse_handle(j["handles"][h], "handles[" + std::to_string(h) + "]"));
+
+  if (j.contains("ik")) {
+    if (s.method != DeformMethod::spline) bad("ik", "only the spline method takes an IK chain");
+    s.ik = parse_ik(j["ik"]);
+    if (j.contains("keys")) bad("keys", "give either keys or ik, not both");
+  } else {
+    if (!j.contains("keys") || !j["keys"].is_array()) bad("keys", "missing, or not an array");
+    for (std::size_t k = 0; k < j["keys"].size(); ++k)
+      s.keys.push_back(parse_key(j["keys"][k], "keys[" + std::to_string(k) + "]"));
+  }
+  return s;
+}
+
+DeformSpec read_spec(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw FileError("cannot read the spec " + path.string() + ": is a directory");
+  std::ifstream in(path);
+  if (!in) throw FileError("cannot read the spec " + path.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_spec(text.str(), path.string());
+}
+
+DeformSpace default_space(const anim::RiggedModel& model) noexcept {
+  const bool rigged =
+      std::any_of(model.meshes.begin(), model.meshes.end(), [](const mesh::Mesh& m) { return !m.skin.empty(); });
+  return rigged ? DeformSpace::world : DeformSpace::mesh;
+}
+
+std::vector<mesh::RowMatrixXf<3>> rest_positions(const anim::RiggedModel& model, DeformSpace space) {
+  std::vector<mesh::RowMatrixXf<3>> out;
+  if (space == DeformSpace::mesh) {
+    for (const mesh::Mesh& m : model.meshes) out.push_back(m.positions);
+    return out;
+  }
+  const anim::Pose bind = anim::rest_pose(model.skeleton);
+  const auto gv = anim::global_versors(model.skeleton, bind);
+  const auto gm = anim::global_matrices(model.skeleton, bind);
+  for (const mesh::Mesh& m : model.meshes)
+    out.push_back(anim::skin(m, anim::make_palette(m, gv, gm, anim::SkinningMode::matrix)));
+  return out;
+}
+
+BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& model, const SpecBindOptions& options)
+    : mesh_(spec.mesh), space_(spec.space.value_or(default_space(model))) {
+  if (mesh_ < 0 || mesh_ >= static_cast<int>(model.meshes.size()))
+    bad("mesh", "no mesh " + std::to_string(mesh_) + " (the model has " + std::to_string(model.meshes.size()) + ")");
+  const mesh::Mesh& target = model.meshes[static_cast<std::size_t>(mesh_)];
+  if (space_ == DeformSpace::mesh) {
+    rest_ = target.positions;
+  } else {
+    // The bind pose of this mesh alone, and each vertex's inverse bind map for to_mesh_space().
+    const anim::Pose bind = anim::rest_pose(model.skeleton);
+    const anim::SkinningPalette palette =
+        anim::make_palette(target, anim::global_versors(model.skeleton, bind),
+                           anim::global_matrices(model.skeleton, bind), anim::SkinningMode::matrix);
+    rest_ = anim::skin(target, palette);
+    to_mesh_.resize(static_cast<std::size_t>(target.vertex_count()));
+    for (Eigen::Index i = 0; i < target.vertex_count(); ++i) {
+      const Eigen::Matrix<double, 3, 4> m = anim::blended_affine(target, palette, i);
+      Eigen::Matrix3d inverse;
+      bool invertible = false;
+      m.leftCols<3>().computeInverseWithCheck(inverse, invertible);
+      if (!invertible)
+        bad("space", "world: the bind skinning of vertex " + std::to_string(i) +
+                         " is singular, so an edit cannot be mapped back to the mesh (use \"space\": \"mesh\")");
+      to_mesh_[static_cast<std::size_t>(i)] << inverse, -inverse * m.col(3);
+    }
+  }
+
+  std::vector<int> node = mesh::weld_by_position(rest_);
+  mesh::number_classes(node);
+  std::vector<int> owner(static_cast<std::size_t>(rest_.rows()), -1);  // handle of each welded node
+  for (std::size_t h = 0; h < spec.handles.size(); ++h) {
+    const std::string field = "handles[" + std::to_string(h) + "]";
+    handles_.push_back(select(spec.handles[h], rest_, field));
+    for (const int v : handles_.back()) {
+      int& o = owner[static_cast<std::size_t>(node[static_cast<std::size_t>(v)])];
+      if (o >= 0 && o != static_cast<int>(h))
+        bad(field, "vertex " + std::to_string(v) + " (or a vertex at its position) is also in handles[" +
+                       std::to_string(o) + "]; handles must be disjoint");
+      o = static_cast<int>(h);
+    }
+  }
+
+  check_key_count(spec);  // after the selections, so that a bad index is named first
+  if (spec.ik) {
+    try {
+      ik_ = fabrik(spec.ik->joints, spec.ik->target);
+    } catch (const InvalidInputError& e) {
+      bad("ik", e.what());
+    }
+    keys_.assign(ik_->motors.begin(), ik_->motors.end());
+  } else {
+    for (const KeyTransform& k : spec.keys) keys_.push_back(k.versor());
+  }
+
+  // Parts without a handle vertex: the harmonic field is solved on the others.
+  mesh::Mesh shape;
+  shape.positions = rest_;
+  shape.faces = target.faces;
+  const std::vector<int> part = parts_of(shape, spec.weights);
+  std::vector<char> handled(part.size(), 0);
+  for (const auto& h : handles_)
+    for (const int v : h) handled[static_cast<std::size_t>(part[static_cast<std::size_t>(v)])] = 1;
+  std::vector<std::vector<int>> bound_handles = handles_;
+  if (std::any_of(part.begin(), part.end(), [&](int p) { return !handled[static_cast<std::size_t>(p)]; })) {
+    std::vector<int> index(part.size(), -1);  // vertex -> its index in the blended sub-mesh
+    for (std::size_t v = 0; v < part.size(); ++v) {
+      if (handled[static_cast<std::size_t>(part[v])]) {
+        index[v] = static_cast<int>(blended_.size());
+        blended_.push_back(static_cast<int>(v));
+      } else {
+        free_.push_back(static_cast<int>(v));
+      }
+    }
+    for (auto& h : bound_handles)
+      for (int& v : h) v = index[static_cast<std::size_t>(v)];
+    mesh::Mesh sub;
+    sub.positions.resize(static_cast<Eigen::Index>(blended_.size()), 3);
+    for (std::size_t v = 0; v < blended_.size(); ++v)
+      sub.positions.row(static_cast<Eigen::Index>(v)) = rest_.row(blended_[v]);
+    std::vector<int> faces;
+    for (Eigen::Index f = 0; f < shape.faces.rows(); ++f) {
+      // A face joins one part, or is degenerate (no edge of the field): then it is dropped.
+      const std::array<int, 3> corner = {index[static_cast<std::size_t>(shape.faces(f, 0))],
+                                         index[static_cast<std::size_t>(shape.faces(f, 1))],
+                                         index[static_cast<std::size_t>(shape.faces(f, 2))]};
+      if (std::all_of(corner.begin(), corner.end(), [](int c) { return c >= 0; }))
+        faces.insert(faces.end(), corner.begin(), corner.end());
+    }
+    sub.faces = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+        faces.data(), static_cast<Eigen::Index>(faces.size() / 3), 3);
+    shape = std::move(sub);
+    free_key_ = free_part_keys(spec, rest_, handles_, free_, part, keys_.size());
+  }
+
+  const std::vector<cga::Versor<double>> rest_keys(keys_.size(),
+                                                   cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()));
+  HarmonicOptions harmonic;
+  harmonic.weights = spec.weights;
+  if (spec.method == DeformMethod::spline) {
+    SplineOptions spline;
+    spline.harmonic = harmonic;
+    spline.basis = spec.basis;
+    spline.degree = spec.degree;
+    blend_.emplace(bind_spline(shape, bound_handles[0], bound_handles[1], rest_keys, spline, options.blend));
+  } else {
+    blend_.emplace(bind_harmonic_handles(shape, bound_handles, rest_keys, harmonic, options.blend));
+  }
+}
+
+void BoundDeformer::apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const {
+  if (blended_.empty()) {
+    blend_->deform(keys, out);
+    return;
+  }
+  mesh::RowMatrixXf<3> part;
+  blend_->deform(keys, part);
+  out = rest_;
+  for (std::size_t v = 0; v < blended_.size(); ++v) out.row(blended_[v]) = part.row(static_cast<Eigen::Index>(v));
+  // The rest keys are identities, so a handle's motor is its key applied to the rest shape.
+  std::vector<std::optional<Eigen::Matrix<float, 3, 4>>> maps(keys.size());
+  for (std::size_t f = 0; f < free_.size(); ++f) {
+    const int k = free_key_[f];
+    if (k < 0) continue;
+    auto& map = maps[static_cast<std::size_t>(k)];
+    if (!map) map = cga::PointMap<double>(keys[static_cast<std::size_t>(k)]).affine_matrix().cast<float>();
+    const auto v = free_[f];
+    out.row(v) = (map->leftCols<3>() * rest_.row(v).transpose() + map->col(3)).transpose();
+  }
+}
+
+mesh::RowMatrixXf<3> BoundDeformer::apply(std::span<const cga::Versor<double>> keys) const {
+  mesh::RowMatrixXf<3> out;
+  apply(keys, out);
+  return out;
+}
+
+mesh::RowMatrixXf<3> BoundDeformer::to_mesh_space(const mesh::RowMatrixXf<3>& positions) const {
+  if (positions.rows() != rest_.rows())
+    throw InvalidInputError("to_mesh_space: " + std::to_string(positions.rows()) + " positions for " +
+                            std::to_string(rest_.rows()) + " vertices");
+  if (space_ == DeformSpace::mesh) return positions;
+  mesh::RowMatrixXf<3> out(positions.rows(), 3);
+  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+    const Eigen::Matrix<double, 3, 4>& m = to_mesh_[static_cast<std::size_t>(i)];
+    out.row(i) = (m.leftCols<3>() * positions.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
+  }
+  return out;
+}
+
+anim::RiggedModel BoundDeformer::deformed_model(const anim::RiggedModel& model,
+                                                const mesh::RowMatrixXf<3>& positions) const {
+  anim::RiggedModel out = model;
+  if (mesh_ >= static_cast<int>(out.meshes.size()) ||
+      out.meshes[static_cast<std::size_t>(mesh_)].vertex_count() != rest_.rows())
+    throw InvalidInputError("deformed_model: the model is not the one bound (mesh " + std::to_string(mesh_) +
+                            " has another vertex count)");
+  mesh::Mesh& m = out.meshes[static_cast<std::size_t>(mesh_)];
+  m.positions = to_mesh_space(positions);
+  m.normals.resize(0, 3);
+  return out;
+}
+
+}  // namespace cgamesh::deform
