@@ -17,7 +17,7 @@ namespace {
 
 struct ViewCommand {
   std::string model, script, size = "1280x800", view = "front", color = "material";
-  std::string anim;
+  std::string anim, spec;
   double time = 0;
   anim::SkinningMode skinning = anim::SkinningMode::cga;
   bool skeleton = false, json = false;
@@ -62,6 +62,10 @@ struct ViewCommand {
     o.scene.skeleton = skeleton;
     o.json = json;
     if (!script.empty()) o.script = session::read_script(script);
+    if (!spec.empty()) {
+      o.spec = deform::read_spec(spec);
+      o.spec_path = spec;
+    }
     anim::RiggedModel m = load_model(model);
     check_script(o.script, m, script);
     if (o.scene.color == render::ColorMode::joint) (void)joint_index(m.skeleton, o.scene.joint);
@@ -93,6 +97,9 @@ void add_view(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--anim", c->anim, "start on this clip (name or index; default: the bind pose)");
   sub->add_option("--time", c->time, "start at this time (seconds)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--spec", c->spec,
+                  "a deformation spec (as for `cgamesh deform`): its handles shown, its keys on sliders, "
+                  "previewed every frame");
   sub->add_flag("--skeleton", c->skeleton, "draw the skeleton over the mesh");
   sub->add_flag("--json", c->json, "log each operation as one JSON line on stdout");
   sub->callback([c] { c->run(); });

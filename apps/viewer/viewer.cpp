@@ -141,6 +141,11 @@ class Viewer {
   void joint_tree(int joint, const std::vector<std::vector<int>>& children);
   void apply_cut();
   void apply_drill();
+  void bind_spec();
+  [[nodiscard]] std::vector<cga::Versor<double>> deform_keys() const;
+  void update_preview();
+  void apply_deformation();
+  void deformation_panel();
   void log(const session::OperationReport& r);
   void failed(const std::string& what);
   void screenshot(const std::string& path) const;
@@ -176,6 +181,13 @@ class Viewer {
   double radius_ = 0.02, depth_ = 0.15;  ///< in model sizes
   bool wall_ = false, drill_along_view_ = false;
   Vec3 drill_view_ = -Vec3::UnitZ();
+  // Deformation (--spec): the bound deformer, its keys as the sliders set them, and the model
+  // with the deformed rest shape drawn instead of the session's while previewing.
+  std::optional<deform::BoundDeformer> deformer_;
+  std::vector<deform::KeyTransform> keys_;
+  bool preview_on_ = true, preview_dirty_ = true;
+  std::optional<anim::RiggedModel> preview_;
+  std::vector<Eigen::Vector3f> handle_points_;
   std::deque<std::string> log_;
   std::string status_;
   // Script.
@@ -194,6 +206,10 @@ class Viewer {
 Viewer::Viewer(session::Session& session, const ViewerOptions& options, const std::string& script_name)
     : session_(session), options_(options), script_name_(script_name), window_(options) {
   renderer_ = std::make_unique<render::Renderer>();
+  if (options_.spec) {
+    keys_ = options_.spec->keys;
+    bind_spec();
+  }
   glfwGetFramebufferSize(window_.handle(), &fb_width_, &fb_height_);
   glfwGetWindowSize(window_.handle(), &win_width_, &win_height_);
   frame_all();
@@ -337,6 +353,9 @@ void Viewer::run_action(const session::ScriptAction& a) {
     window_shot_ = a.text;  // after the panel is drawn
   } else if (a.verb == "screenshot") {
     screenshot(a.text);
+  } else if (a.verb == "deform") {
+    if (!options_.spec) throw InvalidInputError("there is no deformation spec (give --spec)");
+    apply_deformation();
   } else if (a.verb == "quit") {
     quit_ = true;
   }
@@ -483,12 +502,111 @@ void Viewer::advance(double seconds) {
   session_.set_time(std::fmod(session_.time() + seconds * speed_, d));
 }
 
+// ---- Deformation ----
+
+void Viewer::bind_spec() {
+  deformer_.reset();
+  preview_.reset();
+  const auto bind = [&] { deformer_.emplace(*options_.spec, session_.model()); };
+  guarded("bind " + options_.spec_path, bind);
+  preview_dirty_ = true;
+}
+
+std::vector<cga::Versor<double>> Viewer::deform_keys() const {
+  // An IK chain's keys are FABRIK's motors; key transforms come from the sliders.
+  if (options_.spec->ik) return deformer_->keys();
+  std::vector<cga::Versor<double>> out;
+  for (const deform::KeyTransform& k : keys_) out.push_back(k.versor());
+  return out;
+}
+
+void Viewer::update_preview() {
+  if (!deformer_) return;
+  const mesh::Mesh& m = session_.model().meshes[static_cast<std::size_t>(deformer_->mesh_index())];
+  if (m.vertex_count() != deformer_->vertex_count()) {  // surgery changed the mesh
+    deformer_.reset();
+    preview_.reset();
+    status_ = "the model changed since the spec was bound: bind it again";
+    return;
+  }
+  if (!preview_on_) {
+    preview_.reset();
+    return;
+  }
+  guarded("deform", [&] {
+    if (preview_dirty_ || !preview_) {
+      preview_ = deformer_->deformed_model(session_.model(), deformer_->apply(deform_keys()));
+      preview_dirty_ = false;
+    }
+    const mesh::RowMatrixXf<3> placed = io::posed_positions(
+        *preview_, session_.pose(), options_.scene.skinning)[static_cast<std::size_t>(deformer_->mesh_index())];
+    handle_points_.clear();
+    for (const std::vector<int>& h : deformer_->handles())
+      for (const int v : h) handle_points_.push_back(placed.row(v).transpose());
+  });
+}
+
+void Viewer::apply_deformation() {
+  if (!deformer_) throw InvalidInputError("the spec is not bound to this model (bind it again)");
+  log(session_.deform(*deformer_, deform_keys(), options_.spec_path));
+  // The rest shape changed: what was bound belongs to the shape before.
+  deformer_.reset();
+  preview_.reset();
+}
+
+void Viewer::deformation_panel() {
+  if (!options_.spec || !ImGui::CollapsingHeader("Deformation", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::TextWrapped("%s", options_.spec_path.c_str());
+  if (!deformer_) {
+    if (ImGui::Button("Bind the spec to the model")) bind_spec();
+    return;
+  }
+  if (ImGui::Checkbox("preview (handles in green)", &preview_on_)) preview_dirty_ = true;
+  if (options_.spec->ik) ImGui::TextWrapped("keys from the IK chain (FABRIK)");
+  for (std::size_t i = 0; i < keys_.size() && !options_.spec->ik; ++i) {
+    deform::KeyTransform& k = keys_[i];
+    if (!ImGui::TreeNodeEx(("key " + std::to_string(i)).c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
+    std::array<float, 3> axis{static_cast<float>(k.axis.x()), static_cast<float>(k.axis.y()),
+                              static_cast<float>(k.axis.z())};
+    std::array<float, 3> move{static_cast<float>(k.translate.x()), static_cast<float>(k.translate.y()),
+                              static_cast<float>(k.translate.z())};
+    float degrees = static_cast<float>(k.degrees), scale = static_cast<float>(k.scale);
+    const float reach = static_cast<float>(session_.size() / 2);
+    bool changed = ImGui::SliderFloat3("axis", axis.data(), -1, 1);
+    changed |= ImGui::SliderFloat("degrees", &degrees, -180, 180);
+    changed |= ImGui::SliderFloat3("translate", move.data(), -reach, reach);
+    changed |= ImGui::SliderFloat("scale", &scale, 0.2f, 3.0f, "%.3f", ImGuiSliderFlags_Logarithmic);
+    const Vec3 a(axis[0], axis[1], axis[2]);
+    if (changed && a.norm() > 1e-6) {
+      k.axis = a;
+      k.degrees = degrees;
+      k.translate = Vec3(move[0], move[1], move[2]);
+      k.scale = scale;
+      preview_dirty_ = true;
+    }
+    ImGui::TreePop();
+  }
+  if (ImGui::Button("Apply deformation")) guarded("deform", [&] { apply_deformation(); });
+  ImGui::SameLine();
+  if (ImGui::Button("Spec's keys")) {
+    keys_ = options_.spec->keys;
+    preview_dirty_ = true;
+  }
+}
+
 // ---- Scene ----
 
 render::Scene Viewer::scene() const {
-  const std::array<render::ModelInstance, 1> one{
-      render::ModelInstance{&session_.model(), session_.pose(), &session_.index()}};
+  const anim::RiggedModel& shown = preview_ ? *preview_ : session_.model();
+  const std::array<render::ModelInstance, 1> one{render::ModelInstance{&shown, session_.pose(), &session_.index()}};
   render::Scene s = render::model_scene(one, options_.scene);
+  if (preview_ && !handle_points_.empty()) {
+    render::PointSet p;
+    p.points = handle_points_;
+    p.color = {0.1f, 0.9f, 0.3f};
+    p.size_pixels = 5;
+    s.points.push_back(std::move(p));
+  }
   if (joint_ >= 0 && options_.scene.skeleton) {
     const auto g = anim::global_matrices(session_.model().skeleton, session_.pose());
     render::PointSet p;
@@ -769,6 +887,8 @@ void Viewer::panel() {
     for (const std::string& l : log_) ImGui::TextUnformatted(l.c_str());
   }
 
+  deformation_panel();
+
   if (ImGui::CollapsingHeader("Save", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::InputText("file", save_path_.data(), save_path_.size());
     if (ImGui::Button("Save (.glb/.gltf rigged, .obj/.ply posed)")) save(save_path_.data());
@@ -801,6 +921,7 @@ void Viewer::run() {
     } else {
       script_step();
     }
+    update_preview();
     if (fb_width_ > 0 && fb_height_ > 0) {
       render_options_.width = fb_width_;
       render_options_.height = fb_height_;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cgamesh/deform/spec.hpp"
 #include "cgamesh/render/camera.hpp"
 #include "cgamesh/render/model_scene.hpp"
 #include "cgamesh/render/renderer.hpp"
@@ -25,6 +26,8 @@ struct ViewerOptions {
   render::ModelSceneOptions scene;
   std::vector<session::ScriptAction> script;  ///< run one per frame; the window closes after the last
   bool json = false;                          ///< log each operation as one JSON line on stdout (else as text)
+  std::optional<deform::DeformSpec> spec;     ///< a deformation spec to preview and apply (--spec)
+  std::string spec_path;
 };
 
 /// Opens the window, runs until it is closed (or the script quits) and closes it.

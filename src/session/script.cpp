@@ -45,6 +45,7 @@ const std::map<std::string, Grammar>& grammar() {
       {"reset", {0, 0, nullptr, false, true}},
       {"save", {1, 1}},
       {"screenshot", {1, 1, "panel"}},
+      {"deform", {0, 0}},
       {"quit", {0, 0}},
   };
   return g;

@@ -307,6 +307,21 @@ OperationReport Session::drill(const Eigen::Vector3d& tip, const Eigen::Vector3d
   });
 }
 
+OperationReport Session::deform(const deform::BoundDeformer& deformer, std::span<const cga::Versor<double>> keys,
+                                const std::string& spec) {
+  const int i = deformer.mesh_index();
+  if (i < 0 || i >= static_cast<int>(model().meshes.size()) ||
+      model().meshes[static_cast<std::size_t>(i)].vertex_count() != deformer.vertex_count())
+    throw InvalidInputError("deform: the model changed since the spec was bound (mesh " + std::to_string(i) +
+                            " no longer has its " + std::to_string(deformer.vertex_count()) +
+                            " vertices); bind it again");
+  return operate([&](OperationReport& r) {
+    r.kind = "deform";
+    r.command = "deform MODEL --spec " + shell_word(spec) + " -o OUT";
+    replace_model(deformer.deformed_model(model(), deformer.apply(keys)));
+  });
+}
+
 void Session::begin_stroke() {
   if (stroking_) throw InvalidInputError("a tear stroke is already under way");
   place_now();

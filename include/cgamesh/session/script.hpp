@@ -13,6 +13,7 @@
 //   cut NX,NY,NZ,D [cap]             tear HX,HY,HZ,TX,TY,TZ ... [open=W]
 //   drag X,Y X,Y ... [open=W]        (a tear dragged through window pixels, top-left origin)
 //   drill TX,TY,TZ BX,BY,BZ RADIUS [wall]
+//   deform (the viewer's --spec with its keys as set)
 //   undo   redo   reset   save PATH   screenshot PATH [panel]   quit
 
 #include <optional>
@@ -49,7 +50,7 @@ struct ScriptAction {
 [[nodiscard]] std::vector<ScriptAction> read_script(const std::string& path);
 
 /// True for the actions apply() carries out on a Session; the others (play, skinning, color,
-/// view, explode, drag, wait, save, screenshot, quit) need the viewer.
+/// view, explode, drag, deform, wait, save, screenshot, quit) need the viewer.
 [[nodiscard]] bool is_session_action(const std::string& verb) noexcept;
 
 /// Carries out a session action: the report of a cut, tear or drill, nothing for the others.

@@ -18,6 +18,7 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/deform/spec.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
 #include "cgamesh/surgery/live_model.hpp"
@@ -113,6 +114,14 @@ class Session {
   /// @throws as surgery::drill; the session is then unchanged.
   OperationReport drill(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                         const surgery::DrillOptions& options = {});
+
+  /// Deforms the model's rest shape by `deformer` under `keys` (deform/spec.hpp: the mesh it
+  /// was bound to gets BoundDeformer::deformed_model's rest shape, skin, skeleton and clips
+  /// kept), as one undo step. `spec` names the spec in the report's command.
+  /// @throws InvalidInputError when the deformer was bound to a mesh of another vertex count
+  ///         (the model changed since), or as BoundDeformer::apply.
+  OperationReport deform(const deform::BoundDeformer& deformer, std::span<const cga::Versor<double>> keys,
+                         const std::string& spec);
 
   /// A tear made by dragging: begin_stroke(), then stroke_step() per blade position, each
   /// step past the first torn in place at once (so the tear grows while dragging), then
