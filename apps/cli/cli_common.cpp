@@ -112,6 +112,24 @@ PoseChoice::Chosen PoseChoice::choose(const anim::RiggedModel& model) const {
   return out;
 }
 
+std::pair<int, int> parse_size(const std::string& text, const std::string& option, int lo, int hi) {
+  const std::size_t x = text.find_first_of("xX");
+  const auto side = [&](const std::string& part) {
+    std::size_t used = 0;
+    long v = 0;
+    try {
+      v = std::stol(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (x == std::string::npos || used == 0 || used != part.size() || v < lo || v > hi)
+      throw InvalidInputError(option + " '" + text + "': expected WIDTHxHEIGHT, each side an integer from " +
+                              std::to_string(lo) + " to " + std::to_string(hi));
+    return static_cast<int>(v);
+  };
+  return {side(text.substr(0, x)), side(x == std::string::npos ? "" : text.substr(x + 1))};
+}
+
 void add_force(CLI::App& sub, bool& force) {
   sub.add_flag("--force", force, "write the output even over an input file");
 }

@@ -70,6 +70,10 @@ struct PoseChoice {
   [[nodiscard]] Chosen choose(const anim::RiggedModel& model) const;
 };
 
+/// "WIDTHxHEIGHT" as two integers, each in [lo, hi].
+/// @throws InvalidInputError naming `option` otherwise.
+[[nodiscard]] std::pair<int, int> parse_size(const std::string& text, const std::string& option, int lo, int hi);
+
 /// Adds --force (write over an input file) to `sub`.
 void add_force(CLI::App& sub, bool& force);
 

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -38,34 +39,13 @@ struct RenderCommand {
   bool frame = false, wireframe = false, skeleton = false, json = false, force = false;
   int turntable = 0;
 
-  /// "WxH" as two positive integers.
-  void parse_size(render::RenderOptions& o) const {
-    const std::size_t x = size.find_first_of("xX");
-    if (x == std::string::npos) throw InvalidInputError("--size '" + size + "': expected WIDTHxHEIGHT, e.g. 1280x960");
-    const auto side = [&](const std::string& text) {
-      std::size_t used = 0;
-      long v = 0;
-      try {
-        v = std::stol(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != text.size() || v < 1 || v > render::kMaxImageSide)
-        throw InvalidInputError("--size '" + size + "': each side must be an integer from 1 to " +
-                                std::to_string(render::kMaxImageSide));
-      return static_cast<int>(v);
-    };
-    o.width = side(size.substr(0, x));
-    o.height = side(size.substr(x + 1));
-  }
-
   void run() const {
     // Every argument is checked before any model is read or any context made.
     if (std::filesystem::path(output).extension() != ".png" && std::filesystem::path(output).extension() != ".PNG")
       throw InvalidInputError("-o '" + output + "': the output must be a .png file");
     check_outputs({output}, models, force);
     render::RenderOptions options;
-    parse_size(options);
+    std::tie(options.width, options.height) = parse_size(size, "--size", 1, render::kMaxImageSide);
     const auto bgv = parse_numbers(bg, 3, "--bg");
     for (const double c : bgv)
       if (c < 0 || c > 1) throw InvalidInputError("--bg: each component must be in [0, 1], got '" + bg + "'");

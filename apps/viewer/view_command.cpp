@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <tuple>
 
 #include "cgamesh/errors.hpp"
 #include "cgamesh/render/model_scene.hpp"
@@ -41,21 +42,7 @@ struct ViewCommand {
 
   void run() const {
     viewer::ViewerOptions o;
-    const std::size_t x = size.find_first_of("xX");
-    const auto side = [&](const std::string& text) {
-      std::size_t used = 0;
-      int v = 0;
-      try {
-        v = std::stoi(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (x == std::string::npos || used == 0 || used != text.size() || v < 64 || v > 8192)
-        throw InvalidInputError("--size '" + size + "': expected WIDTHxHEIGHT, each from 64 to 8192");
-      return v;
-    };
-    o.width = side(size.substr(0, x));
-    o.height = side(x == std::string::npos ? "" : size.substr(x + 1));
+    std::tie(o.width, o.height) = parse_size(size, "--size", 64, 8192);
     o.view = render::parse_view(view);
     o.scene.color = render::parse_color_mode(color, o.scene.joint);
     o.scene.skinning = skinning;

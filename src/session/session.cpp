@@ -381,22 +381,16 @@ std::optional<OperationReport> Session::end_stroke(const surgery::TearOptions& o
   return r;
 }
 
-bool Session::undo() {
-  if (!can_undo()) return false;
-  redo_.push_back({std::move(live_), placed_version_});
-  live_ = std::move(undo_.back().live);
-  placed_version_ = undo_.back().placed_version;
-  undo_.pop_back();
-  after_model_change();
-  return true;
-}
+bool Session::undo() { return !stroking_ && step_history(undo_, redo_); }
 
-bool Session::redo() {
-  if (!can_redo()) return false;
-  undo_.push_back({std::move(live_), placed_version_});
-  live_ = std::move(redo_.back().live);
-  placed_version_ = redo_.back().placed_version;
-  redo_.pop_back();
+bool Session::redo() { return !stroking_ && step_history(redo_, undo_); }
+
+bool Session::step_history(std::vector<Snapshot>& from, std::vector<Snapshot>& to) {
+  if (from.empty()) return false;
+  to.push_back({std::move(live_), placed_version_});
+  live_ = std::move(from.back().live);
+  placed_version_ = from.back().placed_version;
+  from.pop_back();
   after_model_change();
   return true;
 }

@@ -175,6 +175,8 @@ class Session {
   template <class Operation>
   OperationReport operate(Operation&& operation);
   void push_undo();
+  /// Makes the last snapshot of `from` the model, the model the last of `to` (undo, redo).
+  bool step_history(std::vector<Snapshot>& from, std::vector<Snapshot>& to);
   /// Drops the oldest snapshots beyond options.max_undo.
   void trim_undo();
   /// Makes `model` the session's, placed in the current pose.
