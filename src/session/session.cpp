@@ -208,6 +208,11 @@ OperationReport Session::operate(Operation&& operation) {
   OperationReport r;
   r.placement_milliseconds = place_now();
   push_undo();
+  return finish(std::move(r), std::forward<Operation>(operation));
+}
+
+template <class Operation>
+OperationReport Session::finish(OperationReport r, Operation&& operation) {
   try {
     const auto start = Clock::now();
     operation(r);
@@ -367,18 +372,8 @@ std::optional<OperationReport> Session::end_stroke(const surgery::TearOptions& o
   OperationReport r;
   r.kind = "tear";
   r.command = tear_command(stroke_, options, stroke_pose_);
-  try {
-    const auto start = Clock::now();
-    r.warnings = surgery::tear(live_, stroke_, options).warnings;
-    r.milliseconds = milliseconds_since(start);
-  } catch (...) {
-    undo_.pop_back();
-    throw;
-  }
-  redo_.clear();
-  trim_undo();
-  r.faces = face_total(model());
-  return r;
+  return finish(std::move(r),
+                [&](OperationReport& x) { x.warnings = surgery::tear(live_, stroke_, options).warnings; });
 }
 
 bool Session::undo() { return !stroking_ && step_history(undo_, redo_); }

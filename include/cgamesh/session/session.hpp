@@ -174,6 +174,10 @@ class Session {
   /// if the operation throws (the model is then as before).
   template <class Operation>
   OperationReport operate(Operation&& operation);
+  /// Runs `operation` after its snapshot was pushed: times it, drops the snapshot if it throws,
+  /// clears redo and counts the faces.
+  template <class Operation>
+  OperationReport finish(OperationReport r, Operation&& operation);
   void push_undo();
   /// Makes the last snapshot of `from` the model, the model the last of `to` (undo, redo).
   bool step_history(std::vector<Snapshot>& from, std::vector<Snapshot>& to);
