@@ -209,6 +209,33 @@ TEST(CliView, ASpecIsPreviewedAndAppliedAsTheDeformCommandDoes) {
   EXPECT_FALSE(m.meshes[0].skin.empty());
 }
 
+TEST(CliView, WorksOnAnAssimpTestModel) {
+  ASSERT_TRUE(xvfb_available()) << "xvfb-run is missing: scripts/install-deps.sh installs it";
+  const fs::path wuson = "/usr/share/assimp/models/X/Testwuson.X";  // Debian's assimp-testmodels
+  ASSERT_TRUE(fs::exists(wuson)) << "assimp-testmodels is missing: scripts/install-deps.sh installs it";
+  TempDir dir;
+  const fs::path script = dir / "wuson.txt", saved = dir / "wuson.glb", shot = dir / "wuson.png";
+  {
+    std::ofstream s(script);
+    s << "clip 0\nplay 0.5\ncut 0,1,0,0.8\ndrill 1.0,1.0,0.3 -1.0,1.0,0.3 0.1 wall\nsave \"" << saved.string()
+      << "\"\nscreenshot \"" << shot.string() << "\"\n";
+  }
+  const Result r = run_view(dir.path(), {wuson.string(), "--script", script.string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r;
+  const std::vector<nlohmann::json> log = json_lines(r.out);
+  ASSERT_EQ(log.size(), 4u) << r;
+  EXPECT_EQ(log[0]["operation"], "cut");
+  EXPECT_EQ(log[1]["operation"], "drill");
+  const RiggedModel original = cgamesh::io::load_model(wuson), edited = cgamesh::io::load_model(saved);
+  EXPECT_GT(face_count(edited), face_count(original));
+  EXPECT_EQ(edited.clips.size(), original.clips.size());
+  EXPECT_EQ(log[1]["faces"].get<long>(), face_count(edited));
+  const std::string png = read_file(shot);
+  const auto image =
+      cgamesh::render::decode_image(std::span(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()), "png");
+  EXPECT_GT(cgamesh_test::silhouette(image, {255, 255, 255}).count(), 20000);
+}
+
 TEST(CliView, BadScriptsAndMissingModelsExitWithTheirCodes) {
   Failure f;
   const fs::path script = f.inputs / "bad.txt";
