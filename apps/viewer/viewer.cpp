@@ -615,8 +615,7 @@ render::Scene Viewer::scene() const {
     p.size_pixels = 12;
     s.points.push_back(std::move(p));
   }
-  const render::Box box = s.bounds();
-  const double size = box.diagonal();
+  const double size = session_.size();
   if (tool_ == Tool::cut && cut_point_) {
     const Vec3 u = cut_normal_.unitOrthogonal() * size / 2, v = cut_normal_.cross(u);
     const std::array<Vec3, 4> c{*cut_point_ + u + v, *cut_point_ - u + v, *cut_point_ - u - v, *cut_point_ + u - v};

@@ -459,8 +459,7 @@ surgery::Scalpel Session::blade(const Pick& at, const Eigen::Vector3d& view_dire
   return {at.point - d, at.point + d};
 }
 
-double Session::size() {
-  place_now();
+double Session::size() const {
   const auto [lo, hi] = placed_bounds();
   return (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0;
 }

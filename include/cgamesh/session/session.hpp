@@ -155,8 +155,9 @@ class Session {
   /// view direction (the handle, above the surface) to `depth` behind it (the tip, below).
   [[nodiscard]] static surgery::Scalpel blade(const Pick& at, const Eigen::Vector3d& view_direction, double depth);
 
-  /// Length of the diagonal of the placed model's bounding box (the scale of tools).
-  [[nodiscard]] double size();
+  /// Length of the diagonal of the bounding box of the model as last placed (the scale of
+  /// tools; not placed again for a new pose, which would cost a re-index every frame of play).
+  [[nodiscard]] double size() const;
 
   /// Writes the model: .glb/.gltf with skin, skeleton and clips; .obj/.ply as posed now
   /// (skinned with `mode`). All or nothing.
