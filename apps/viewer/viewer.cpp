@@ -19,6 +19,9 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 #include <nlohmann/json.hpp>
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/lsan_interface.h>
+#endif
 
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/text_values.hpp"
@@ -86,6 +89,12 @@ void Window::close() noexcept {
   if (imgui_) ImGui::DestroyContext();
   gl_imgui_ = glfw_imgui_ = imgui_ = false;
   if (window_ != nullptr) {
+#if defined(__SANITIZE_ADDRESS__)
+    // The OpenGL driver keeps allocations for the life of the process in libraries that
+    // closing the window unloads; LeakSanitizer could then neither name nor suppress them,
+    // so the leak check runs here, while they are loaded.
+    __lsan_do_leak_check();
+#endif
     glfwDestroyWindow(window_);
     glfwTerminate();
   }
