@@ -152,27 +152,42 @@ std::vector<std::pair<int, double>> FreeFormDeformation::weights(Eigen::Index i)
   return out;
 }
 
-template <std::size_t N>
-std::array<double, N> FreeFormDeformation::contract(Eigen::Index i,
-                                                    const std::vector<std::array<double, N>>& values) const noexcept {
-  // Axis by axis: Σ_k B_k Σ_v B_v Σ_u B_u values, the tensor-product weights of eq. 8 never formed.
-  const float* b0 = &basis_(i, 0);
-  const float* b1 = b0 + width_[0];
-  const float* b2 = b1 + width_[1];
+namespace {
+
+/// Σ_k b2[k] Σ_v b1[v] Σ_u b0[u] base[u + v·stride_v + k·stride_k]: a vertex's window of the
+/// lattice, the tensor-product weights of eq. 8 never formed. W > 0 fixes every width at compile
+/// time (the B-spline's 4), so that the loops unroll; W = 0 takes `width`.
+template <int W, std::size_t N>
+std::array<double, N> contract_window(const float* b0, const std::array<int, 3>& width,
+                                      const std::array<double, N>* base, int stride_v, int stride_k) noexcept {
+  const int w0 = W > 0 ? W : width[0], w1 = W > 0 ? W : width[1], w2 = W > 0 ? W : width[2];
+  const float* b1 = b0 + w0;
+  const float* b2 = b1 + w1;
   std::array<double, N> sum{};
-  for (int k = 0; k < width_[2]; ++k) {
+  for (int k = 0; k < w2; ++k) {
     std::array<double, N> plane{};
-    for (int v = 0; v < width_[1]; ++v) {
-      const std::array<double, N>* row =
-          &values[static_cast<std::size_t>(lattice_.index(first_(i, 0), first_(i, 1) + v, first_(i, 2) + k))];
+    for (int v = 0; v < w1; ++v) {
+      const std::array<double, N>* row = base + v * stride_v + k * stride_k;
       std::array<double, N> line{};
-      for (int u = 0; u < width_[0]; ++u)
+      for (int u = 0; u < w0; ++u)
         for (std::size_t c = 0; c < N; ++c) line[c] += b0[u] * row[u][c];
       for (std::size_t c = 0; c < N; ++c) plane[c] += b1[v] * line[c];
     }
     for (std::size_t c = 0; c < N; ++c) sum[c] += b2[k] * plane[c];
   }
   return sum;
+}
+
+}  // namespace
+
+template <std::size_t N>
+std::array<double, N> FreeFormDeformation::contract(Eigen::Index i,
+                                                    const std::vector<std::array<double, N>>& values) const noexcept {
+  const std::array<double, N>* base =
+      &values[static_cast<std::size_t>(lattice_.index(first_(i, 0), first_(i, 1), first_(i, 2)))];
+  const int stride_v = lattice_.resolution[0], stride_k = lattice_.resolution[0] * lattice_.resolution[1];
+  if (width_ == std::array<int, 3>{4, 4, 4}) return contract_window<4>(&basis_(i, 0), width_, base, stride_v, stride_k);
+  return contract_window<0>(&basis_(i, 0), width_, base, stride_v, stride_k);
 }
 
 template <class Move>
