@@ -15,7 +15,6 @@
 namespace cgamesh::deform {
 namespace {
 
-constexpr int kMaxResolution = 64;
 /// Lattice coordinates this far outside [0, 1] still count as inside (rounding of the box).
 constexpr double kInsideTolerance = 1e-9;
 
@@ -55,8 +54,8 @@ void axis_basis(const Lattice& lattice, int l, double t, std::vector<double>& ou
 void check_lattice(const Lattice& lattice) {
   for (int a = 0; a < 3; ++a)
     if (lattice.resolution[static_cast<std::size_t>(a)] < 2 ||
-        lattice.resolution[static_cast<std::size_t>(a)] > kMaxResolution)
-      throw InvalidInputError("lattice: the resolution must be in [2, " + std::to_string(kMaxResolution) +
+        lattice.resolution[static_cast<std::size_t>(a)] > kMaxLatticeResolution)
+      throw InvalidInputError("lattice: the resolution must be in [2, " + std::to_string(kMaxLatticeResolution) +
                               "] on every axis");
   const LatticeBox& box = lattice.box;
   if (!box.origin.allFinite()) throw InvalidInputError("lattice: the box origin is not finite");

@@ -157,9 +157,10 @@ LatticeSpec parse_lattice(const Json& j) {
   LatticeSpec l;
   if (j.contains("resolution")) {
     const Json& r = j["resolution"];
-    if (!r.is_array() || r.size() != 3 ||
-        !std::all_of(r.begin(), r.end(), [](const Json& x) { return x.is_number_integer() && x >= 2 && x <= 64; }))
-      bad("lattice.resolution", "expected 3 integers in [2, 64]");
+    if (!r.is_array() || r.size() != 3 || !std::all_of(r.begin(), r.end(), [](const Json& x) {
+          return x.is_number_integer() && x >= 2 && x <= kMaxLatticeResolution;
+        }))
+      bad("lattice.resolution", "expected 3 integers in [2, " + std::to_string(kMaxLatticeResolution) + "]");
     l.resolution = {r[0].get<int>(), r[1].get<int>(), r[2].get<int>()};
   }
   l.basis =

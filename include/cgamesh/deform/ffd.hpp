@@ -28,6 +28,10 @@ enum class LatticeBasis {
   bspline,    ///< uniform cubic B-spline over the points (Blender's lattice default); local
 };
 
+/// The most control points a lattice takes along an axis (Bernstein polynomials of higher degree
+/// are ill-conditioned, and l m n of them weigh on every vertex).
+inline constexpr int kMaxLatticeResolution = 64;
+
 /// How the uniform cubic B-spline treats the missing neighbours of the end control points.
 enum class BsplineEnds {
   linear,  ///< P₋₁ = 2P₀ − P₁: the lattice reproduces affine maps, so a rigid lattice is rigid
@@ -42,7 +46,7 @@ struct LatticeBox {
 };
 
 struct Lattice {
-  std::array<int, 3> resolution{2, 2, 2};  ///< l, m, n: control points per axis, each ≥ 2
+  std::array<int, 3> resolution{2, 2, 2};  ///< l, m, n: control points per axis, in [2, kMaxLatticeResolution]
   LatticeBasis basis = LatticeBasis::bernstein;
   BsplineEnds ends = BsplineEnds::linear;  ///< bspline only
   LatticeBox box;
@@ -72,7 +76,7 @@ class FreeFormDeformation {
   /// (eq. 8). Vertices outside the box get no weight and stay in place (Sederberg–Parry).
   /// @param[in] rest     #V×3 rest positions p̂
   /// @param[in] lattice  the lattice; its box is the rest lattice
-  /// @throws InvalidInputError for a resolution below 2 or above 64 on an axis, a size that is not
+  /// @throws InvalidInputError for a resolution below 2 or above kMaxLatticeResolution on an axis, a size that is not
   ///         finite and > 0, or a rotation that is not orthonormal.
   FreeFormDeformation(const mesh::RowMatrixXf<3>& rest, const Lattice& lattice, const FfdOptions& options = {});
 

@@ -47,7 +47,7 @@ enum class FfdVariant {
 
 /// The lattice of an FFD spec; its box is resolved against the mesh at bind.
 struct LatticeSpec {
-  std::array<int, 3> resolution{2, 2, 2};  ///< control points per axis, each in [2, 64]
+  std::array<int, 3> resolution{2, 2, 2};  ///< control points per axis, each in [2, kMaxLatticeResolution]
   LatticeBasis basis = LatticeBasis::bernstein;
   BsplineEnds ends = BsplineEnds::linear;
   std::optional<LatticeBox> box;  ///< unset: the mesh's bounding box grown by `margin`
