@@ -153,40 +153,41 @@ std::vector<std::pair<int, double>> FreeFormDeformation::weights(Eigen::Index i)
 
 namespace {
 
-/// Σ_k b2[k] Σ_v b1[v] Σ_u b0[u] base[u + v·stride_v + k·stride_k]: a vertex's window of the
-/// lattice, the tensor-product weights of eq. 8 never formed. W > 0 fixes every width at compile
-/// time (the B-spline's 4), so that the loops unroll; W = 0 takes `width`.
-template <int W, std::size_t N>
-std::array<double, N> contract_window(const float* b0, const std::array<int, 3>& width,
-                                      const std::array<double, N>* base, int stride_v, int stride_k) noexcept {
-  const int w0 = W > 0 ? W : width[0], w1 = W > 0 ? W : width[1], w2 = W > 0 ? W : width[2];
-  const float* b1 = b0 + w0;
-  const float* b2 = b1 + w1;
-  std::array<double, N> sum{};
-  for (int k = 0; k < w2; ++k) {
-    std::array<double, N> plane{};
-    for (int v = 0; v < w1; ++v) {
-      const std::array<double, N>* row = base + v * stride_v + k * stride_k;
-      std::array<double, N> line{};
-      for (int u = 0; u < w0; ++u)
-        for (std::size_t c = 0; c < N; ++c) line[c] += b0[u] * row[u][c];
-      for (std::size_t c = 0; c < N; ++c) plane[c] += b1[v] * line[c];
-    }
-    for (std::size_t c = 0; c < N; ++c) sum[c] += b2[k] * plane[c];
+/// Σ_k b2[k] Σ_v b1[v] Σ_u b0[u] table.col(base + u + v·stride_v + k·stride_k): a vertex's window
+/// of the lattice, the tensor-product weights of eq. 8 never formed. The B-spline's 4 × 4 × 4
+/// window goes 4 u-lanes at a time (the table holds each component contiguous over the control
+/// points); other widths take the scalar loops.
+template <int N>
+Eigen::Matrix<float, N, 1> contract_window(const float* b0, const std::array<int, 3>& width, const FfdTable<N>& table,
+                                           int base, int stride_v, int stride_k) noexcept {
+  const float* b1 = b0 + width[0];
+  const float* b2 = b1 + width[1];
+  if (width == std::array<int, 3>{4, 4, 4}) {
+    const Eigen::Array4f lanes = Eigen::Map<const Eigen::Array4f>(b0);
+    Eigen::Array<float, 4, N> sum = Eigen::Array<float, 4, N>::Zero();
+    for (int k = 0; k < 4; ++k)
+      for (int v = 0; v < 4; ++v) {
+        const Eigen::Array4f w = (b1[v] * b2[k]) * lanes;
+        const int row = base + v * stride_v + k * stride_k;
+        for (int c = 0; c < N; ++c) sum.col(c) += w * Eigen::Map<const Eigen::Array4f>(&table(c, row));
+      }
+    return sum.colwise().sum().transpose();
   }
+  Eigen::Matrix<float, N, 1> sum = Eigen::Matrix<float, N, 1>::Zero();
+  for (int k = 0; k < width[2]; ++k)
+    for (int v = 0; v < width[1]; ++v) {
+      const int row = base + v * stride_v + k * stride_k;
+      for (int u = 0; u < width[0]; ++u) sum += (b0[u] * b1[v] * b2[k]) * table.col(row + u);
+    }
   return sum;
 }
 
 }  // namespace
 
-template <std::size_t N>
-std::array<double, N> FreeFormDeformation::contract(Eigen::Index i,
-                                                    const std::vector<std::array<double, N>>& values) const noexcept {
-  const std::array<double, N>* base =
-      &values[static_cast<std::size_t>(lattice_.index(first_(i, 0), first_(i, 1), first_(i, 2)))];
-  const int stride_v = lattice_.resolution[0], stride_k = lattice_.resolution[0] * lattice_.resolution[1];
-  if (width_ == std::array<int, 3>{4, 4, 4}) return contract_window<4>(&basis_(i, 0), width_, base, stride_v, stride_k);
-  return contract_window<0>(&basis_(i, 0), width_, base, stride_v, stride_k);
+template <int N>
+Eigen::Matrix<float, N, 1> FreeFormDeformation::contract(Eigen::Index i, const FfdTable<N>& table) const noexcept {
+  return contract_window<N>(&basis_(i, 0), width_, table, lattice_.index(first_(i, 0), first_(i, 1), first_(i, 2)),
+                            lattice_.resolution[0], lattice_.resolution[0] * lattice_.resolution[1]);
 }
 
 template <class Move>
@@ -207,23 +208,28 @@ void FreeFormDeformation::frame(std::size_t count, const char* what, mesh::RowMa
 
 void FreeFormDeformation::deform_points(std::span<const Eigen::Vector3d> points, mesh::RowMatrixXf<3>& out) const {
   const std::vector<Eigen::Vector3d> rest = lattice_.control_points();
-  std::vector<std::array<double, 3>> displacement(rest.size());
+  FfdTable<3> displacement(3, static_cast<Eigen::Index>(rest.size()));
   for (std::size_t c = 0; c < rest.size() && c < points.size(); ++c)
-    for (std::size_t d = 0; d < 3; ++d)
-      displacement[c][d] = points[c][static_cast<Eigen::Index>(d)] - rest[c][static_cast<Eigen::Index>(d)];
-  frame(points.size(), "control points", out, [&](Eigen::Index i) -> Eigen::RowVector3f {
-    const std::array<double, 3> d = contract(i, displacement);
-    return (rest_.row(i).cast<double>() + Eigen::RowVector3d(d[0], d[1], d[2])).cast<float>();
-  });
+    displacement.col(static_cast<Eigen::Index>(c)) = (points[c] - rest[c]).cast<float>();
+  frame(points.size(), "control points", out,
+        [&](Eigen::Index i) -> Eigen::RowVector3f { return rest_.row(i) + contract(i, displacement).transpose(); });
 }
 
 void FreeFormDeformation::deform_motors(std::span<const cga::Versor<double>> motors, mesh::RowMatrixXf<3>& out) const {
   using Generator = cga::SimilarityGenerator<double>;
-  std::vector<std::array<double, Generator::size>> coefficients;
-  if (static_cast<int>(motors.size()) == lattice_.count())
-    for (const Generator& g : similarity_logs(motors)) coefficients.push_back(g.coefficients());
+  constexpr int kSize = static_cast<int>(Generator::size);
+  FfdTable<kSize> logs(kSize, static_cast<Eigen::Index>(motors.size()));
+  if (static_cast<int>(motors.size()) == lattice_.count()) {
+    const std::vector<Generator> generators = similarity_logs(motors);
+    for (std::size_t c = 0; c < generators.size(); ++c)
+      for (int k = 0; k < kSize; ++k)
+        logs(k, static_cast<Eigen::Index>(c)) = static_cast<float>(generators[c][static_cast<std::size_t>(k)]);
+  }
   frame(motors.size(), "control point motors", out, [&](Eigen::Index i) -> Eigen::RowVector3f {
-    const Eigen::Matrix<double, 3, 4> m = similarity_exp_affine(Generator(contract(i, coefficients)));
+    const Eigen::Matrix<float, kSize, 1> g = contract(i, logs);
+    std::array<double, Generator::size> coefficients{};
+    for (int k = 0; k < kSize; ++k) coefficients[static_cast<std::size_t>(k)] = g[k];
+    const Eigen::Matrix<double, 3, 4> m = similarity_exp_affine(Generator(coefficients));
     return (m.leftCols<3>() * rest_.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
   });
 }

@@ -66,6 +66,11 @@ struct Lattice {
 ///         flat along an axis (every vertex on one plane and margin 0, or a single point).
 [[nodiscard]] LatticeBox bounding_lattice_box(const mesh::RowMatrixXf<3>& positions, double margin);
 
+/// Per control point, N values of a frame (displacements, generators), each value's row
+/// contiguous over the control points.
+template <int N>
+using FfdTable = Eigen::Matrix<float, N, Eigen::Dynamic, Eigen::RowMajor>;
+
 struct FfdOptions {
   int threads = 0;  ///< threads of a frame; 0: all hardware threads
 };
@@ -105,10 +110,9 @@ class FreeFormDeformation {
   /// @throws InvalidInputError when `count` (of `what`) is not the lattice's.
   template <class Move>
   void frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Move&& move) const;
-  /// Σ_{u,v,k} w_{u,v,k} values[index(u,v,k)] for vertex i (inside the box).
-  template <std::size_t N>
-  [[nodiscard]] std::array<double, N> contract(Eigen::Index i,
-                                               const std::vector<std::array<double, N>>& values) const noexcept;
+  /// Σ_{u,v,k} w_{u,v,k} table.col(index(u,v,k)) for vertex i (inside the box).
+  template <int N>
+  [[nodiscard]] Eigen::Matrix<float, N, 1> contract(Eigen::Index i, const FfdTable<N>& table) const noexcept;
 
   Lattice lattice_;
   mesh::RowMatrixXf<3> rest_;
