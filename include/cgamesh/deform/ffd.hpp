@@ -9,7 +9,8 @@
 //    leave the mesh unchanged; motors that all equal R move it by R exactly.
 //
 // The weights are stored as their per-axis factors (the nonzero basis values of each axis), so
-// memory stays O(#V (l + m + n)) and a frame contracts only the nonzero control points.
+// memory stays O(#V (l + m + n)) and a frame contracts only the nonzero control points, in single
+// precision (as the positions are stored).
 
 #include <array>
 #include <span>
@@ -66,8 +67,8 @@ struct Lattice {
 ///         flat along an axis (every vertex on one plane and margin 0, or a single point).
 [[nodiscard]] LatticeBox bounding_lattice_box(const mesh::RowMatrixXf<3>& positions, double margin);
 
-/// Per control point, N values of a frame (displacements, generators), each value's row
-/// contiguous over the control points.
+/// FreeFormDeformation's frame values: per control point N floats (displacements, generators),
+/// each component's row contiguous over the control points so that a window's u-run is one load.
 template <int N>
 using FfdTable = Eigen::Matrix<float, N, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -81,6 +82,7 @@ class FreeFormDeformation {
   /// (eq. 8). Vertices outside the box get no weight and stay in place (Sederberg–Parry).
   /// @param[in] rest     #V×3 rest positions p̂
   /// @param[in] lattice  the lattice; its box is the rest lattice
+  /// @param[in] options  threads of the bind and of each frame
   /// @throws InvalidInputError for a resolution below 2 or above kMaxLatticeResolution on an axis, a size that is not
   ///         finite and > 0, or a rotation that is not orthonormal.
   FreeFormDeformation(const mesh::RowMatrixXf<3>& rest, const Lattice& lattice, const FfdOptions& options = {});
