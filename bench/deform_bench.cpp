@@ -1,21 +1,28 @@
 // Motor-handle deformation (paper sections III, IV, VIII): binding (harmonic parameter +
 // bound points) and one frame (per-vertex blended motor and sandwich) on the cow (~3k
 // vertices) and ogre (62k) from ../shared/data, and on CesiumMan subdivided past a million
-// vertices; single thread and all threads. The million-vertex frame takes its parameter from
+// vertices; single thread and all threads. FFD (section V) frames, classic and motor, on the
+// million-vertex mesh. The million-vertex frame takes its parameter from
 // the height instead of a harmonic solve (the frame cost does not depend on where lambda
 // comes from). Also the factorisation and the solve of the harmonic field on ogre.
-#include <benchmark/benchmark.h>
-
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <map>
+#include <numbers>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <benchmark/benchmark.h>
+
+#include "cgamesh/cga/point_map.hpp"
+#include "cgamesh/cga/versors.hpp"
+#include "cgamesh/deform/ffd.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
-#include "cgamesh/errors.hpp"
 #include "cgamesh/deform/spline_deform.hpp"
+#include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/mesh/subdivide.hpp"
 
@@ -65,12 +72,14 @@ std::vector<int> start_handle(const mesh::Mesh& m) {
   std::vector<int> parent(static_cast<std::size_t>(m.vertex_count()));
   for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
   const auto root = [&](int v) {
-    while (parent[static_cast<std::size_t>(v)] != v) v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    while (parent[static_cast<std::size_t>(v)] != v)
+      v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
     return v;
   };
   std::map<std::array<float, 3>, int> first;
   for (Eigen::Index v = 0; v < m.vertex_count(); ++v) {
-    const int w = first.try_emplace({m.positions(v, 0), m.positions(v, 1), m.positions(v, 2)}, static_cast<int>(v)).first->second;
+    const int w =
+        first.try_emplace({m.positions(v, 0), m.positions(v, 1), m.positions(v, 2)}, static_cast<int>(v)).first->second;
     parent[static_cast<std::size_t>(root(static_cast<int>(v)))] = root(w);
   }
   for (Eigen::Index f = 0; f < m.face_count(); ++f)
@@ -92,13 +101,19 @@ deform::MotorBlend bind(const mesh::Mesh& m, int threads) {
   return deform::bind_spline(m, start_handle(m), slab(m, true), rest_keys(), {}, {threads});
 }
 
-/// CesiumMan subdivided past a million vertices, bound with lambda = normalised height.
-const deform::MotorBlend& million(int threads) {
+/// CesiumMan subdivided past a million vertices.
+const mesh::Mesh& million_mesh() {
   static const mesh::Mesh big = [] {
     mesh::Mesh m = io::load_model(std::string(CGAMESH_DATA_DIR) + "/CesiumMan.glb").meshes.at(0);
     while (m.vertex_count() < 1'000'000) m = mesh::subdivide_midpoint(m);
     return m;
   }();
+  return big;
+}
+
+/// The million-vertex mesh bound with lambda = normalised height.
+const deform::MotorBlend& million(int threads) {
+  const mesh::Mesh& big = million_mesh();
   static std::map<int, deform::MotorBlend> bound;
   auto it = bound.find(threads);
   if (it == bound.end()) {
@@ -111,9 +126,11 @@ const deform::MotorBlend& million(int threads) {
       deform::spline_weights({}, static_cast<double>(r) / top, std::span<double>(w.row(r).data(), kKeys));
     std::vector<int> rows(static_cast<std::size_t>(big.vertex_count()));
     for (Eigen::Index i = 0; i < big.vertex_count(); ++i)
-      rows[static_cast<std::size_t>(i)] = static_cast<int>(std::lround((big.positions(i, axis) - lo) / (hi - lo) * top));
-    it = bound.emplace(threads, deform::MotorBlend(big.positions, std::move(w), std::move(rows), rest_keys(), {threads}))
-             .first;
+      rows[static_cast<std::size_t>(i)] =
+          static_cast<int>(std::lround((big.positions(i, axis) - lo) / (hi - lo) * top));
+    it =
+        bound.emplace(threads, deform::MotorBlend(big.positions, std::move(w), std::move(rows), rest_keys(), {threads}))
+            .first;
   }
   return it->second;
 }
@@ -158,6 +175,64 @@ void BM_DeformFrame(benchmark::State& state, const std::string& name) {
   if (bindable(state, *m)) frame(state, bind(*m, threads));
 }
 
+/// The million-vertex mesh in a 5×5×5 lattice over its bounding box; one binding kept at a time
+/// (each holds ≈ 100 MB of weights).
+const deform::FreeFormDeformation& million_ffd(deform::LatticeBasis basis, int threads) {
+  static std::optional<deform::FreeFormDeformation> bound;
+  static std::pair<deform::LatticeBasis, int> key;
+  if (!bound || key != std::pair{basis, threads}) {
+    bound.reset();
+    deform::Lattice lattice;
+    lattice.resolution = {5, 5, 5};
+    lattice.basis = basis;
+    lattice.box = deform::bounding_lattice_box(million_mesh().positions, 0.01);
+    bound.emplace(million_mesh().positions, lattice, deform::FfdOptions{threads});
+    key = {basis, threads};
+  }
+  return *bound;
+}
+
+/// FFD frames (section V) on the million-vertex mesh: a twist, control point layer k along z (the
+/// height) turned by 22.5° k about the box's axis — moved points (classic, eq. 6) or motors
+/// (eqs. 7–8). Args: threads (0 = all), variant (0 classic, 1 motor).
+void BM_FfdFrame(benchmark::State& state, deform::LatticeBasis basis) {
+  const deform::FreeFormDeformation& ffd = million_ffd(basis, static_cast<int>(state.range(0)));
+  const deform::Lattice& l = ffd.lattice();
+  const Eigen::Vector3d center = l.box.origin + 0.5 * l.box.size;
+  std::vector<Eigen::Vector3d> points = l.control_points();
+  std::vector<Versor<double>> motors;
+  for (std::size_t c = 0; c < points.size(); ++c) {
+    const double angle = 0.125 * std::numbers::pi * static_cast<double>(c / 25);  // layer c / (5·5)
+    motors.push_back(
+        cga::project<cga::mask::versor>(cga::translator(center) * cga::rotor(Eigen::Vector3d(0, 0, 1), angle) *
+                                        cga::translator(Eigen::Vector3d(-center))));
+    const Eigen::Matrix<double, 3, 4> m = cga::PointMap<double>(motors.back()).affine_matrix();
+    points[c] = m.leftCols<3>() * points[c] + m.col(3);
+  }
+  const bool motor = state.range(1) == 1;
+  mesh::RowMatrixXf<3> out;
+  for (auto _ : state) {
+    if (motor)
+      ffd.deform_motors(motors, out);
+    else
+      ffd.deform_points(points, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * ffd.vertex_count());
+  state.counters["vertices"] = static_cast<double>(ffd.vertex_count());
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_FfdBind(benchmark::State& state, deform::LatticeBasis basis) {
+  deform::Lattice lattice;
+  lattice.resolution = {5, 5, 5};
+  lattice.basis = basis;
+  lattice.box = deform::bounding_lattice_box(million_mesh().positions, 0.01);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(deform::FreeFormDeformation(million_mesh().positions, lattice).vertex_count());
+  state.counters["vertices"] = static_cast<double>(million_mesh().vertex_count());
+}
+
 std::vector<int> ogre_constraints(const mesh::Mesh& m) {
   std::vector<int> c = start_handle(m);
   const std::vector<int> top = slab(m, true);
@@ -187,9 +262,31 @@ void BM_DeformHarmonicSolveOgre(benchmark::State& state) {
 // Arg: threads (0 = all).
 BENCHMARK_CAPTURE(BM_DeformBind, cow, std::string("cow.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DeformBind, ogre, std::string("ogre.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_DeformFrame, cow, std::string("cow.obj"))->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_DeformFrame, ogre, std::string("ogre.obj"))->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_DeformFrame, million, std::string("million"))->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformFrame, cow, std::string("cow.obj"))
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformFrame, ogre, std::string("ogre.obj"))
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformFrame, million, std::string("million"))
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+// Args: threads (0 = all), variant (0 classic, 1 motor).
+BENCHMARK_CAPTURE(BM_FfdFrame, bernstein, deform::LatticeBasis::bernstein)
+    ->ArgsProduct({{1, 0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_FfdFrame, bspline, deform::LatticeBasis::bspline)
+    ->ArgsProduct({{1, 0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_FfdBind, bspline, deform::LatticeBasis::bspline)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DeformHarmonicFactorOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DeformHarmonicSolveOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
 

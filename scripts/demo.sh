@@ -32,8 +32,9 @@ done
   -o out/cesium_drilled.glb
 echo "demo: wrote $(ls out | wc -l) files to out/"
 ls -1 out
-# Motor-handle deformation (paper sections III, IV): spline bend, harmonic handles, FABRIK chain.
-for spec in cesiumman_bend cesiumman_handles cesiumman_ik; do
+# Motor-handle deformation (paper sections III, IV, V): spline bend, harmonic handles, FABRIK chain,
+# a lattice twist by motors and by classic FFD.
+for spec in cesiumman_bend cesiumman_handles cesiumman_ik ffd_twist_motor ffd_twist_classic; do
   "$cli" deform "$model" --spec data/specs/$spec.json -o out/$spec.obj
 done
 # The same bend written with its rig: the edited rest shape re-animates.
@@ -60,7 +61,7 @@ render=("$cli" render --size "${CGAMESH_PICTURE_SIZE:-960x720}")
   --set "$elbow:rotate=0,1,0,-57.3" --set "$wrist:rotate=0,1,0,57.3" -o out/cesium_torn_reposed.png
 "${render[@]}" out/cesium_drilled.glb --anim 0 --time 0.5 --camera 0.6,1.1,1.6,0.01,0.9,0,0,1,0 --frame \
   -o out/cesium_drilled.png
-for spec in cesiumman_bend cesiumman_handles cesiumman_ik; do
+for spec in cesiumman_bend cesiumman_handles cesiumman_ik ffd_twist_motor ffd_twist_classic; do
   # The specs work in world space (the bind pose `info` boxes), where CesiumMan stands along +y.
   "${render[@]}" out/$spec.obj --camera 1,0.75,-0.4,0,0.75,0,0,1,0 --frame -o out/$spec.png
 done

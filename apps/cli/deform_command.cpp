@@ -55,7 +55,7 @@ struct DeformCommand {
     Json handle_sizes = Json::array();
     for (const auto& h : bound.handles()) handle_sizes.push_back(h.size());
     Json summary = {{"output", output},
-                    {"method", spec.method == deform::DeformMethod::spline ? "spline" : "harmonic"},
+                    {"method", deform::method_name(spec.method)},
                     {"mesh", bound.mesh_index()},
                     {"vertices", bound.vertex_count()},
                     {"handle_vertices", handle_sizes},
@@ -65,6 +65,12 @@ struct DeformCommand {
                     {"deform_milliseconds", deform_ms},
                     {"pose", {{"kind", "bind"}, {"space", world ? "world" : "mesh"}}},
                     {"warnings", warnings}};
+    if (const deform::FreeFormDeformation* ffd = bound.ffd()) {
+      Json points = Json::array();
+      for (const auto& h : bound.control_handles()) points.push_back(h.size());
+      summary["control_points"] = ffd->lattice().count();
+      summary["handle_control_points"] = points;
+    }
     const auto& ik = bound.ik();
     if (ik) summary["ik"] = {{"reached", ik->reached}, {"distance", ik->distance}, {"iterations", ik->iterations}};
     if (json) {
@@ -74,7 +80,9 @@ struct DeformCommand {
     std::cout << "deform " << model << " (" << summary["method"].get<std::string>() << ", " << bound.keys().size()
               << " keys, " << bound.vertex_count() << " vertices, bind pose in " << (world ? "world" : "mesh")
               << " space): bind " << bind_ms << " ms, frame " << deform_ms << " ms\n  -> " << output << "\n";
-    if (!bound.free_vertices().empty())
+    if (!bound.free_vertices().empty() && bound.ffd())
+      std::cout << "  " << bound.free_vertices().size() << " vertices outside the lattice box stay in place\n";
+    else if (!bound.free_vertices().empty())
       std::cout << "  " << bound.free_vertices().size() << " vertices in parts without a handle "
                 << (spec.free_parts == deform::FreeParts::nearest ? "move with the nearest handle" : "stay in place")
                 << "\n";
@@ -88,7 +96,8 @@ void add_deform(CLI::App& app) {
   auto c = std::make_shared<DeformCommand>();
   auto* sub = app.add_subcommand(
       "deform",
-      "motor-handle deformation (spline-aligned or harmonic coordinates) from a JSON spec; acts on the bind pose "
+      "motor-handle deformation (spline-aligned, harmonic coordinates or free-form lattice) from a JSON spec; acts on "
+      "the bind pose "
       "in world space for a rigged model (the boxes of `info`), else in mesh space (\"space\" in the spec chooses)");
   sub->add_option("MESH", c->model, "model file (.obj, .ply, .glb, ...)")->required();
   sub->add_option("--spec", c->spec_path, "SPEC.json: method, handles, keys (see README, Deformation specs)")

@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 
 #include "cgamesh/errors.hpp"
+
 #include "../parallel_for.hpp"
 
 namespace cgamesh::deform {
@@ -50,9 +51,7 @@ Eigen::Matrix<double, 3, 4> similarity_exp_affine(const cga::SimilarityGenerator
   return m;
 }
 
-namespace {
-
-std::vector<cga::SimilarityGenerator<double>> logs_of(std::span<const cga::Versor<double>> keys) {
+std::vector<cga::SimilarityGenerator<double>> similarity_logs(std::span<const cga::Versor<double>> keys) {
   std::vector<cga::SimilarityGenerator<double>> logs;
   logs.reserve(keys.size());
   for (std::size_t j = 0; j < keys.size(); ++j) {
@@ -65,7 +64,10 @@ std::vector<cga::SimilarityGenerator<double>> logs_of(std::span<const cga::Verso
   return logs;
 }
 
-cga::SimilarityGenerator<double> blended_generator(const double* w, std::span<const cga::SimilarityGenerator<double>> logs) noexcept {
+namespace {
+
+cga::SimilarityGenerator<double> blended_generator(const double* w,
+                                                   std::span<const cga::SimilarityGenerator<double>> logs) noexcept {
   cga::SimilarityGenerator<double> sum;
   for (std::size_t j = 0; j < logs.size(); ++j) sum += logs[j] * w[j];
   return sum;
@@ -77,8 +79,8 @@ MotorBlend::MotorBlend(const mesh::RowMatrixXf<3>& rest, WeightMatrix weights,
                        std::span<const cga::Versor<double>> rest_keys, const MotorBlendOptions& options)
     : weights_(std::move(weights)), bound_(rest.rows(), 3), threads_(options.threads) {
   if (weights_.rows() != rest.rows())
-    throw InvalidInputError("motor blend: the weights have " + std::to_string(weights_.rows()) + " rows, expected #V = " +
-                            std::to_string(rest.rows()));
+    throw InvalidInputError("motor blend: the weights have " + std::to_string(weights_.rows()) +
+                            " rows, expected #V = " + std::to_string(rest.rows()));
   bind(rest, rest_keys);
 }
 
@@ -100,7 +102,7 @@ void MotorBlend::bind(const mesh::RowMatrixXf<3>& rest, std::span<const cga::Ver
     throw InvalidInputError("motor blend: the weights have " + std::to_string(weights_.cols()) + " columns, expected " +
                             std::to_string(rest_keys.size()) + " (one per key)");
   if (!weights_.allFinite()) throw InvalidInputError("motor blend: a weight is NaN or infinite");
-  const auto logs = logs_of(rest_keys);
+  const auto logs = similarity_logs(rest_keys);
   // p' = ~M p M is the inverse map: A^-1 (p - b), with A = s R.
   const auto inverse = [&](const Eigen::Matrix<double, 3, 4>& m, Eigen::Index i) {
     const Eigen::Vector3d p = rest.row(i).transpose().cast<double>() - m.col(3);
@@ -121,7 +123,7 @@ std::vector<cga::SimilarityGenerator<double>> MotorBlend::key_logs(std::span<con
   if (static_cast<Eigen::Index>(keys.size()) != key_count())
     throw InvalidInputError("motor blend: " + std::to_string(keys.size()) + " keys given, bound to " +
                             std::to_string(key_count()));
-  return logs_of(keys);
+  return similarity_logs(keys);
 }
 
 void MotorBlend::deform_range(std::span<const cga::SimilarityGenerator<double>> logs, Eigen::Index begin,
@@ -132,11 +134,13 @@ void MotorBlend::deform_range(std::span<const cga::SimilarityGenerator<double>> 
   }
 }
 
-std::vector<Eigen::Matrix<float, 3, 4>> MotorBlend::row_maps(std::span<const cga::SimilarityGenerator<double>> logs) const {
+std::vector<Eigen::Matrix<float, 3, 4>> MotorBlend::row_maps(
+    std::span<const cga::SimilarityGenerator<double>> logs) const {
   std::vector<Eigen::Matrix<float, 3, 4>> maps(static_cast<std::size_t>(weights_.rows()));
   detail::parallel_for(weights_.rows(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
     for (Eigen::Index r = begin; r < end; ++r)
-      maps[static_cast<std::size_t>(r)] = similarity_exp_affine(blended_generator(weights_.row(r).data(), logs)).cast<float>();
+      maps[static_cast<std::size_t>(r)] =
+          similarity_exp_affine(blended_generator(weights_.row(r).data(), logs)).cast<float>();
   });
   return maps;
 }
@@ -146,7 +150,8 @@ void MotorBlend::deform(std::span<const cga::Versor<double>> keys, mesh::RowMatr
   const Eigen::Index n = vertex_count();
   out.resize(n, 3);
   if (rows_.empty()) {
-    detail::parallel_for(n, threads_, [&](Eigen::Index begin, Eigen::Index end) { deform_range(logs, begin, end, out); });
+    detail::parallel_for(n, threads_,
+                         [&](Eigen::Index begin, Eigen::Index end) { deform_range(logs, begin, end, out); });
     return;
   }
   const auto maps = row_maps(logs);

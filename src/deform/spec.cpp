@@ -8,7 +8,10 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <nlohmann/json.hpp>
 
@@ -47,8 +50,18 @@ Eigen::Vector3d vector3(const Json& j, const std::string& field) {
   return {v[0], v[1], v[2]};
 }
 
+/// "rotate": [ax, ay, az, degrees] as an axis (non-zero) and an angle.
+std::pair<Eigen::Vector3d, double> parse_rotate(const Json& j, const std::string& field) {
+  const auto v = numbers(j, 4, field);
+  const Eigen::Vector3d axis(v[0], v[1], v[2]);
+  if (axis.norm() == 0) bad(field, "the axis is the zero vector");
+  return {axis, v[3]};
+}
+
+/// The named value of spec[field]; `prefix` names the object in messages ("lattice.").
 template <class E>
-E choice(const Json& spec, const std::string& field, const std::map<std::string, E>& names, E fallback) {
+E choice(const Json& spec, const std::string& field, const std::map<std::string, E>& names, E fallback,
+         const std::string& prefix = "") {
   if (!spec.contains(field)) return fallback;
   const Json& j = spec[field];
   if (j.is_string()) {
@@ -57,7 +70,7 @@ E choice(const Json& spec, const std::string& field, const std::map<std::string,
   }
   std::string list;
   for (const auto& [name, value] : names) list += (list.empty() ? "" : ", ") + name;
-  bad(field, "expected one of " + list);
+  bad(prefix + field, "expected one of " + list);
 }
 
 int integer(const Json& spec, const std::string& field, int fallback) {
@@ -73,10 +86,35 @@ void only_fields(const Json& j, const std::vector<std::string>& names, const std
     if (std::find(names.begin(), names.end(), name) == names.end()) bad(prefix + name, "unknown field (" + list + ")");
 }
 
-/// A handle: vertex indices, {"sphere": [x, y, z, r]} or {"box": [x0, y0, z0, x1, y1, z1]}.
-HandleSelection parse_handle(const Json& j, const std::string& field) {
+/// An ffd handle's control points [[u, v, k], ...], each inside the lattice.
+std::vector<std::array<int, 3>> parse_lattice_points(const Json& j, const std::array<int, 3>& resolution,
+                                                     const std::string& field) {
+  const std::string shape =
+      std::to_string(resolution[0]) + "x" + std::to_string(resolution[1]) + "x" + std::to_string(resolution[2]);
+  std::vector<std::array<int, 3>> out;
+  for (const Json& p : j) {
+    if (!p.is_array() || p.size() != 3 ||
+        !std::all_of(p.begin(), p.end(), [](const Json& x) { return x.is_number_integer(); }))
+      bad(field, "expected control points [[u, v, k], ...] (integers)");
+    const std::array<long long, 3> q = {p[0].get<long long>(), p[1].get<long long>(), p[2].get<long long>()};
+    for (std::size_t a = 0; a < 3; ++a)
+      if (q[a] < 0 || q[a] >= resolution[a])
+        bad(field, "control point [" + std::to_string(q[0]) + ", " + std::to_string(q[1]) + ", " +
+                       std::to_string(q[2]) + "] is outside the " + shape + " lattice");
+    out.push_back({static_cast<int>(q[0]), static_cast<int>(q[1]), static_cast<int>(q[2])});
+  }
+  if (out.empty()) bad(field, "selects no control point");
+  return out;
+}
+
+/// A handle: vertex indices, {"sphere": [x, y, z, r]} or {"box": [x0, y0, z0, x1, y1, z1]}; for
+/// the ffd method control points [[u, v, k], ...] instead of vertex indices.
+HandleSelection parse_handle(const Json& j, const DeformSpec& s, const std::string& field) {
   HandleSelection h;
-  if (j.is_array()) {
+  if (s.method == DeformMethod::ffd && j.is_array()) {
+    h.kind = HandleSelection::Kind::lattice_points;
+    h.points = parse_lattice_points(j, s.lattice.resolution, field);
+  } else if (j.is_array()) {
     for (const Json& x : j) {
       if (!x.is_number_integer() || x.get<long long>() < 0 || x.get<long long>() > std::numeric_limits<int>::max())
         bad(field, "expected vertex indices (integers >= 0)");
@@ -89,7 +127,9 @@ HandleSelection parse_handle(const Json& j, const std::string& field) {
     const auto v = sphere ? numbers(j["sphere"], 4, field + ".sphere") : numbers(j["box"], 6, field + ".box");
     std::copy(v.begin(), v.end(), h.shape.begin());
   } else {
-    bad(field, "expected a list of vertex indices, {\"sphere\": [x, y, z, r]} or {\"box\": [x0, y0, z0, x1, y1, z1]}");
+    bad(field, std::string("expected a list of ") +
+                   (s.method == DeformMethod::ffd ? "control points [[u, v, k], ...]" : "vertex indices") +
+                   ", {\"sphere\": [x, y, z, r]} or {\"box\": [x0, y0, z0, x1, y1, z1]}");
   }
   return h;
 }
@@ -101,18 +141,57 @@ KeyTransform parse_key(const Json& j, const std::string& field) {
   KeyTransform k;
   if (j.contains("translate")) k.translate = vector3(j["translate"], field + ".translate");
   if (j.contains("center")) k.center = vector3(j["center"], field + ".center");
-  if (j.contains("rotate")) {
-    const auto v = numbers(j["rotate"], 4, field + ".rotate");
-    k.axis = {v[0], v[1], v[2]};
-    if (k.axis.norm() == 0) bad(field + ".rotate", "the axis is the zero vector");
-    k.degrees = v[3];
-  }
+  if (j.contains("rotate")) std::tie(k.axis, k.degrees) = parse_rotate(j["rotate"], field + ".rotate");
   if (j.contains("scale")) {
     if (!j["scale"].is_number() || !(j["scale"].get<double>() > 0) || !std::isfinite(j["scale"].get<double>()))
       bad(field + ".scale", "expected a finite number > 0");
     k.scale = j["scale"].get<double>();
   }
   return k;
+}
+
+/// {"resolution": [l, m, n], "basis", "ends", "box": {"origin", "size", "rotate"} or "margin"}.
+LatticeSpec parse_lattice(const Json& j) {
+  if (!j.is_object()) bad("lattice", "expected an object with resolution, basis, ends, box or margin");
+  only_fields(j, {"resolution", "basis", "ends", "box", "margin"}, "lattice.");
+  LatticeSpec l;
+  if (j.contains("resolution")) {
+    const Json& r = j["resolution"];
+    if (!r.is_array() || r.size() != 3 || !std::all_of(r.begin(), r.end(), [](const Json& x) {
+          return x.is_number_integer() && x >= 2 && x <= kMaxLatticeResolution;
+        }))
+      bad("lattice.resolution", "expected 3 integers in [2, " + std::to_string(kMaxLatticeResolution) + "]");
+    l.resolution = {r[0].get<int>(), r[1].get<int>(), r[2].get<int>()};
+  }
+  l.basis =
+      choice<LatticeBasis>(j, "basis", {{"bernstein", LatticeBasis::bernstein}, {"bspline", LatticeBasis::bspline}},
+                           LatticeBasis::bernstein, "lattice.");
+  l.ends = choice<BsplineEnds>(j, "ends", {{"linear", BsplineEnds::linear}, {"repeat", BsplineEnds::repeat}},
+                               BsplineEnds::linear, "lattice.");
+  if (j.contains("ends") && l.basis != LatticeBasis::bspline) bad("lattice.ends", "only the bspline basis has ends");
+  if (j.contains("margin")) {
+    if (j.contains("box")) bad("lattice.margin", "give a box or a margin, not both");
+    const Json& m = j["margin"];
+    if (!m.is_number() || !std::isfinite(m.get<double>()) || m.get<double>() < 0)
+      bad("lattice.margin", "expected a finite number >= 0");
+    l.margin = m.get<double>();
+  }
+  if (j.contains("box")) {
+    const Json& b = j["box"];
+    if (!b.is_object() || !b.contains("origin") || !b.contains("size"))
+      bad("lattice.box", "expected {\"origin\": [x, y, z], \"size\": [sx, sy, sz]} and optionally \"rotate\"");
+    only_fields(b, {"origin", "size", "rotate"}, "lattice.box.");
+    LatticeBox box;
+    box.origin = vector3(b["origin"], "lattice.box.origin");
+    box.size = vector3(b["size"], "lattice.box.size");
+    if (!(box.size.array() > 0).all()) bad("lattice.box.size", "expected 3 numbers > 0");
+    if (b.contains("rotate")) {
+      const auto [axis, degrees] = parse_rotate(b["rotate"], "lattice.box.rotate");
+      box.rotation = Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()).toRotationMatrix();
+    }
+    l.box = box;
+  }
+  return l;
 }
 
 IkChain parse_ik(const Json& ik) {
@@ -128,7 +207,7 @@ IkChain parse_ik(const Json& ik) {
 /// Checks that the method and basis take the spec's number of keys.
 void check_key_count(const DeformSpec& s) {
   const std::size_t n = s.ik ? s.ik->joints.size() : s.keys.size();
-  if (s.method == DeformMethod::harmonic) {
+  if (s.method != DeformMethod::spline) {
     if (s.handles.size() != n)
       bad("keys", std::to_string(n) + " keys for " + std::to_string(s.handles.size()) + " handles (one per handle)");
     return;
@@ -146,7 +225,9 @@ void check_key_count(const DeformSpec& s) {
 }
 
 /// The vertices a selection picks from `positions` (#V×3, in the spec's space).
-std::vector<int> select(const HandleSelection& h, const mesh::RowMatrixXf<3>& positions, const std::string& field) {
+/// `noun` names what the positions are in messages.
+std::vector<int> select(const HandleSelection& h, const mesh::RowMatrixXf<3>& positions, const std::string& field,
+                        const std::string& noun = "vertex") {
   const Eigen::Index count = positions.rows();
   if (h.kind == HandleSelection::Kind::indices) {
     for (const int v : h.indices)
@@ -162,8 +243,29 @@ std::vector<int> select(const HandleSelection& h, const mesh::RowMatrixXf<3>& po
                                                                   (p.array() <= Eigen::Array3d(v[3], v[4], v[5])).all();
     if (in) out.push_back(static_cast<int>(i));
   }
-  if (out.empty()) bad(field, "selects no vertex");
+  if (out.empty()) bad(field, "selects no " + noun);
   return out;
+}
+
+/// The control points (Lattice::index()) an ffd handle selects: by [u, v, k], or the sphere or
+/// box containing their rest positions.
+std::vector<int> select_control_points(const HandleSelection& h, const Lattice& lattice, const std::string& field) {
+  if (h.kind == HandleSelection::Kind::indices)
+    bad(field, "the ffd method selects control points ([[u, v, k], ...], a sphere or a box), not vertices");
+  std::vector<int> out;
+  if (h.kind == HandleSelection::Kind::lattice_points) {
+    for (const auto& p : h.points) {
+      for (std::size_t a = 0; a < 3; ++a)
+        if (p[a] < 0 || p[a] >= lattice.resolution[a]) bad(field, "a control point is outside the lattice");
+      out.push_back(lattice.index(p[0], p[1], p[2]));
+    }
+    return out;
+  }
+  const std::vector<Eigen::Vector3d> points = lattice.control_points();
+  mesh::RowMatrixXf<3> rest(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t c = 0; c < points.size(); ++c)
+    rest.row(static_cast<Eigen::Index>(c)) = points[c].transpose().cast<float>();
+  return select(h, rest, field, "control point");
 }
 
 /// Per vertex, its connected part as the harmonic field sees it (harmonic_precompute): welded
@@ -221,6 +323,18 @@ cga::Versor<double> KeyTransform::versor() const {
                                          cga::translator(Eigen::Vector3d(-center)));
 }
 
+const char* method_name(DeformMethod method) noexcept {
+  switch (method) {
+    case DeformMethod::spline:
+      return "spline";
+    case DeformMethod::harmonic:
+      return "harmonic";
+    case DeformMethod::ffd:
+      return "ffd";
+  }
+  return "?";
+}
+
 DeformSpec parse_spec(std::string_view text, const std::string& source) {
   Json j;
   try {
@@ -229,11 +343,24 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
     throw InvalidInputError("spec " + source + " is not valid JSON: " + e.what());
   }
   if (!j.is_object()) throw InvalidInputError("spec " + source + ": expected a JSON object");
-  only_fields(j, {"method", "mesh", "space", "weights", "handles", "keys", "basis", "degree", "ik", "free_parts"}, "");
+  only_fields(j,
+              {"method", "mesh", "space", "weights", "handles", "keys", "basis", "degree", "ik", "free_parts",
+               "lattice", "variant"},
+              "");
   DeformSpec s;
-  if (!j.contains("method")) bad("method", "missing (spline or harmonic)");
-  s.method = choice<DeformMethod>(j, "method", {{"spline", DeformMethod::spline}, {"harmonic", DeformMethod::harmonic}},
-                                  DeformMethod::spline);
+  if (!j.contains("method")) bad("method", "missing (spline, harmonic or ffd)");
+  s.method = choice<DeformMethod>(
+      j, "method", {{"spline", DeformMethod::spline}, {"harmonic", DeformMethod::harmonic}, {"ffd", DeformMethod::ffd}},
+      DeformMethod::spline);
+  // Each method's own fields: a field another method reads is an error, not silently ignored.
+  const bool ffd = s.method == DeformMethod::ffd;
+  for (const char* field : {"weights", "basis", "degree", "ik", "free_parts"})
+    if (ffd && j.contains(field)) bad(field, "not a field of the ffd method (see lattice)");
+  for (const char* field : {"lattice", "variant"})
+    if (!ffd && j.contains(field)) bad(field, "only the ffd method takes it");
+  if (ffd && j.contains("lattice")) s.lattice = parse_lattice(j["lattice"]);
+  s.variant = choice<FfdVariant>(j, "variant", {{"classic", FfdVariant::classic}, {"motor", FfdVariant::motor}},
+                                 FfdVariant::motor);
   s.mesh = integer(j, "mesh", 0);
   if (s.mesh < 0) bad("mesh", "expected an index >= 0");
   if (j.contains("space"))
@@ -255,7 +382,7 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
 
   if (!j.contains("handles") || !j["handles"].is_array()) bad("handles", "missing, or not an array");
   for (std::size_t h = 0; h < j["handles"].size(); ++h)
-    s.handles.push_back(parse_handle(j["handles"][h], "handles[" + std::to_string(h) + "]"));
+    s.handles.push_back(parse_handle(j["handles"][h], s, "handles[" + std::to_string(h) + "]"));
 
   if (j.contains("ik")) {
     if (s.method != DeformMethod::spline) bad("ik", "only the spline method takes an IK chain");
@@ -325,6 +452,10 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
                          " is singular, so an edit cannot be mapped back to the mesh (use \"space\": \"mesh\")");
       to_mesh_[static_cast<std::size_t>(i)] << inverse, -inverse * m.col(3);
     }
+  }
+  if (spec.method == DeformMethod::ffd) {
+    bind_ffd(spec, options);
+    return;
   }
 
   std::vector<int> node = mesh::weld_by_position(rest_);
@@ -409,7 +540,67 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
   }
 }
 
+void BoundDeformer::bind_ffd(const DeformSpec& spec, const SpecBindOptions& options) {
+  Lattice lattice;
+  lattice.resolution = spec.lattice.resolution;
+  lattice.basis = spec.lattice.basis;
+  lattice.ends = spec.lattice.ends;
+  try {
+    lattice.box = spec.lattice.box ? *spec.lattice.box : bounding_lattice_box(rest_, spec.lattice.margin);
+  } catch (const InvalidInputError& e) {
+    bad("lattice.margin", e.what());
+  }
+  FfdOptions ffd;
+  ffd.threads = options.blend.threads;
+  try {
+    ffd_.emplace(rest_, lattice, ffd);
+  } catch (const InvalidInputError& e) {
+    bad("lattice", e.what());
+  }
+  keys_of_point_.resize(static_cast<std::size_t>(lattice.count()));
+  for (std::size_t h = 0; h < spec.handles.size(); ++h) {
+    control_handles_.push_back(select_control_points(spec.handles[h], lattice, "handles[" + std::to_string(h) + "]"));
+    handles_.emplace_back();
+    for (const int c : control_handles_.back())
+      keys_of_point_[static_cast<std::size_t>(c)].push_back(static_cast<int>(h));
+  }
+  check_key_count(spec);
+  for (const KeyTransform& k : spec.keys) keys_.push_back(k.versor());
+  free_ = ffd_->outside();
+  variant_ = spec.variant;
+}
+
+void BoundDeformer::apply_ffd(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const {
+  if (keys.size() != keys_.size())
+    throw InvalidInputError("ffd: " + std::to_string(keys.size()) + " keys given, bound to " +
+                            std::to_string(keys_.size()));
+  // Each control point under the keys of its handles, composed in handle order.
+  const std::size_t count = keys_of_point_.size();
+  if (variant_ == FfdVariant::motor) {
+    std::vector<cga::Versor<double>> motors(count, cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()));
+    for (std::size_t c = 0; c < count; ++c)
+      for (const int h : keys_of_point_[c])
+        motors[c] = cga::project<cga::mask::versor>(keys[static_cast<std::size_t>(h)] * motors[c]);
+    ffd_->deform_motors(motors, out);
+    return;
+  }
+  (void)similarity_logs(keys);  // the classic variant takes similarities too, so that either variant fails alike
+  std::vector<Eigen::Matrix<double, 3, 4>> maps;
+  for (const auto& k : keys) maps.push_back(cga::PointMap<double>(k).affine_matrix());
+  std::vector<Eigen::Vector3d> points = ffd_->lattice().control_points();
+  for (std::size_t c = 0; c < count; ++c)
+    for (const int h : keys_of_point_[c]) {
+      const Eigen::Matrix<double, 3, 4>& m = maps[static_cast<std::size_t>(h)];
+      points[c] = m.leftCols<3>() * points[c] + m.col(3);
+    }
+  ffd_->deform_points(points, out);
+}
+
 void BoundDeformer::apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const {
+  if (ffd_) {
+    apply_ffd(keys, out);
+    return;
+  }
   if (blended_.empty()) {
     blend_->deform(keys, out);
     return;

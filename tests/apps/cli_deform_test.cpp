@@ -1,17 +1,18 @@
 // The deform command: the shipped example specs run, identity keys keep the mesh, bad specs
 // name the field and exit 2, an unreadable spec exits 3; world space by default for a rigged
 // model, a .glb that keeps the rig, parts without a handle.
-#include <gtest/gtest.h>
-
 #include <fstream>
 #include <span>
 #include <string>
 
-#include "anim/model_fixtures.hpp"
-#include "apps/cli_util.hpp"
+#include <gtest/gtest.h>
+
 #include "cgamesh/deform/spec.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+
+#include "anim/model_fixtures.hpp"
+#include "apps/cli_util.hpp"
 #include "deform/deform_fixtures.hpp"
 
 namespace {
@@ -28,11 +29,12 @@ fs::path write_spec(const TempDir& dir, const std::string& text) {
 
 TEST(CliDeform, ExampleSpecsRun) {
   TempDir dir;
-  for (const char* name : {"cesiumman_bend.json", "cesiumman_handles.json", "cesiumman_ik.json"}) {
+  for (const char* name : {"cesiumman_bend.json", "cesiumman_handles.json", "cesiumman_ik.json", "ffd_twist_motor.json",
+                           "ffd_twist_classic.json"}) {
     const fs::path out = dir.path() / "out.obj";
-    const Result r = run_cli({"deform", cgamesh_test::demo_model().string(), "--spec", spec(name).string(), "-o",
-                              out.string(), "--json"},
-                             dir.path());
+    const Result r = run_cli(
+        {"deform", cgamesh_test::demo_model().string(), "--spec", spec(name).string(), "-o", out.string(), "--json"},
+        dir.path());
     ASSERT_EQ(r.code, 0) << r;
     const auto summary = nlohmann::json::parse(r.out);
     EXPECT_EQ(summary["vertices"], 3273);
@@ -66,7 +68,8 @@ TEST(CliDeform, BadSpecsNameTheField) {
       {R"({"method": "twist", "handles": [[0], [1]], "keys": [{}, {}]})", "spec.method"},
       {R"({"method": "spline", "handles": [[0], [99999999]], "keys": [{}, {}]})", "spec.handles[1]"},
       {R"({"method": "spline", "handles": [[0], {"sphere": [0, 0, 0]}], "keys": [{}, {}]})", "spec.handles[1].sphere"},
-      {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {"rotate": [0, 0, 0, 10]}]})", "spec.keys[1].rotate"},
+      {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {"rotate": [0, 0, 0, 10]}]})",
+       "spec.keys[1].rotate"},
       {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {"scale": -1}]})", "spec.keys[1].scale"},
       {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {}], "basis": "quadratic_lagrange"})", "spec.keys"},
       {R"({"method": "harmonic", "handles": [[0], [1]], "keys": [{}]})", "spec.keys"},
@@ -78,13 +81,78 @@ TEST(CliDeform, BadSpecsNameTheField) {
     EXPECT_EQ(r.code, 2) << r;
     EXPECT_NE(r.err.find(field), std::string::npos) << r;
   }
-  const Result missing = run_cli({"deform", model, "--spec", (dir.path() / "none.json").string(), "-o", out}, dir.path());
+  const Result missing =
+      run_cli({"deform", model, "--spec", (dir.path() / "none.json").string(), "-o", out}, dir.path());
   EXPECT_EQ(missing.code, 3) << missing;
   std::filesystem::create_directories(dir.path() / "spec_dir.json");
   const Result directory =
       run_cli({"deform", model, "--spec", (dir.path() / "spec_dir.json").string(), "-o", out}, dir.path());
   EXPECT_EQ(directory.code, 3) << directory;
   EXPECT_NE(directory.err.find("is a directory"), std::string::npos) << directory;
+}
+
+// Every ffd field: a bad value exits 2 naming it.
+TEST(CliDeform, FfdBadSpecsNameTheField) {
+  TempDir dir;
+  const std::string model = cgamesh_test::asset("spot.obj").string(), out = (dir.path() / "out.obj").string();
+  const std::string tail = R"("handles": [[[0, 0, 0]]], "keys": [{}]})";
+  const std::pair<std::string, const char*> cases[] = {
+      {R"({"method": "ffd", "variant": "soft", )" + tail, "spec.variant"},
+      {R"({"method": "ffd", "lattice": 3, )" + tail, "spec.lattice"},
+      {R"({"method": "ffd", "lattice": {"resolution": [2, 2, 65]}, )" + tail, "spec.lattice.resolution"},
+      {R"({"method": "ffd", "lattice": {"basis": "nurbs"}, )" + tail, "spec.lattice.basis"},
+      {R"({"method": "ffd", "lattice": {"basis": "bspline", "ends": 1}, )" + tail, "spec.lattice.ends"},
+      {R"({"method": "ffd", "lattice": {"margin": "wide"}, )" + tail, "spec.lattice.margin"},
+      {R"({"method": "ffd", "lattice": {"box": {"size": [1, 1, 1]}}, )" + tail, "spec.lattice.box"},
+      {R"({"method": "ffd", "lattice": {"box": {"origin": [0, 0, "a"], "size": [1, 1, 1]}}, )" + tail,
+       "spec.lattice.box.origin"},
+      {R"({"method": "ffd", "lattice": {"box": {"origin": [0, 0, 0], "size": [1, -1, 1]}}, )" + tail,
+       "spec.lattice.box.size"},
+      {R"({"method": "ffd", "lattice": {"box": {"origin": [0, 0, 0], "size": [1, 1, 1], "rotate": [1, 0, 0]}}, )" +
+           tail,
+       "spec.lattice.box.rotate"},
+      {R"({"method": "ffd", "handles": [[[0, 3, 0]]], "keys": [{}]})", "spec.handles[0]"},
+      {R"({"method": "ffd", "handles": [[5, 6]], "keys": [{}]})", "spec.handles[0]"},
+      {R"({"method": "ffd", "handles": [{"sphere": [1e6, 0, 0, 1]}], "keys": [{}]})", "spec.handles[0]"},
+      {R"({"method": "ffd", "handles": [[[0, 0, 0]]], "keys": []})", "spec.keys"},
+      {R"({"method": "ffd", "degree": 2, )" + tail, "spec.degree"},
+      {R"({"method": "spline", "variant": "motor", "handles": [[0], [1]], "keys": [{}, {}]})", "spec.variant"},
+  };
+  for (const auto& [text, field] : cases) {
+    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
+    EXPECT_EQ(r.code, 2) << text << "\n" << r;
+    EXPECT_NE(r.err.find(field), std::string::npos) << r;
+  }
+}
+
+// Both variants of the example twist run to a .glb with the rig; identity keys keep the mesh.
+TEST(CliDeform, FfdWritesGlbAndIdentityKeepsTheMesh) {
+  TempDir dir;
+  const fs::path glb = dir.path() / "twist.glb";
+  const Result r = run_cli({"deform", cgamesh_test::demo_model().string(), "--spec",
+                            spec("ffd_twist_motor.json").string(), "-o", glb.string(), "--json"},
+                           dir.path());
+  ASSERT_EQ(r.code, 0) << r;
+  const auto summary = nlohmann::json::parse(r.out);
+  EXPECT_EQ(summary["method"], "ffd");
+  EXPECT_EQ(summary["control_points"], 16);
+  EXPECT_EQ(summary["handle_control_points"], nlohmann::json::parse("[4, 4, 4]"));
+  const auto model = cgamesh::io::load_model(glb);
+  EXPECT_GT(model.skeleton.size(), 0U);
+  EXPECT_FALSE(model.clips.empty());
+
+  const fs::path out = dir.path() / "out.obj";
+  const std::string spot = cgamesh_test::asset("spot.obj").string();
+  for (const char* variant : {"classic", "motor"}) {
+    const fs::path s = write_spec(dir, std::string(R"({"method": "ffd", "variant": ")") + variant + R"(",
+        "lattice": {"resolution": [3, 3, 3], "basis": "bspline"},
+        "handles": [[[1, 1, 1]], {"box": [-1e3, -1e3, -1e3, 1e3, 1e3, 1e3]}], "keys": [{}, {"rotate": [0, 0, 1, 0]}]})");
+    ASSERT_EQ(run_cli({"deform", spot, "--spec", s.string(), "-o", out.string(), "--force"}, dir.path()).code, 0);
+    const Points a = read_obj_vertices(out);
+    const Points b = cgamesh::io::load_model(spot).meshes.at(0).positions.cast<double>();
+    ASSERT_EQ(a.rows(), b.rows());
+    EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5) << variant;
+  }
 }
 
 // World space is the default for a rigged model; a .glb keeps skin, skeleton and clips, and its

@@ -184,29 +184,32 @@ TEST(CliView, ScriptCutsTearsDrillsUndoesAndSavesWhatTheCommandsWrite) {
   EXPECT_GT(cgamesh_test::iou(drawn, expected_mask), 0.95);
 }
 
+// A spline spec and an FFD spec: the viewer binds both through BoundDeformer.
 TEST(CliView, ASpecIsPreviewedAndAppliedAsTheDeformCommandDoes) {
   ASSERT_TRUE(xvfb_available()) << "xvfb-run is missing: scripts/install-deps.sh installs it";
   TempDir dir;
   const fs::path script = dir / "deform.txt", viewer = dir / "viewer.obj", cli = dir / "cli.obj",
                  rigged = dir / "viewer.glb";
-  const std::string spec = std::string(CGAMESH_DATA_DIR) + "/specs/cesiumman_bend.json";
   {
     std::ofstream s(script);
     s << "wait 2\ndeform\nsave \"" << viewer.string() << "\"\nsave \"" << rigged.string() << "\"\nundo\nquit\n";
   }
-  const Result r = run_view(dir.path(), {cesium().string(), "--spec", spec, "--script", script.string(), "--json"});
-  ASSERT_EQ(r.code, 0) << r;
-  const std::vector<nlohmann::json> log = json_lines(r.out);
-  ASSERT_GE(log.size(), 1u) << r;
-  EXPECT_EQ(log[0]["operation"], "deform");
-  run_ok(dir, {"deform", cesium().string(), "--spec", spec, "-o", cli.string()});
-  const Points a = read_obj_vertices(viewer), b = read_obj_vertices(cli);
-  ASSERT_EQ(a.rows(), b.rows());
-  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5);
-  // The deformed model keeps its rig and clips.
-  const RiggedModel m = cgamesh::io::load_model(rigged);
-  EXPECT_EQ(m.clips.size(), 1u);
-  EXPECT_FALSE(m.meshes[0].skin.empty());
+  for (const char* name : {"cesiumman_bend.json", "ffd_twist_motor.json"}) {
+    const std::string spec = std::string(CGAMESH_DATA_DIR) + "/specs/" + name;
+    const Result r = run_view(dir.path(), {cesium().string(), "--spec", spec, "--script", script.string(), "--json"});
+    ASSERT_EQ(r.code, 0) << name << "\n" << r;
+    const std::vector<nlohmann::json> log = json_lines(r.out);
+    ASSERT_GE(log.size(), 1u) << r;
+    EXPECT_EQ(log[0]["operation"], "deform");
+    run_ok(dir, {"deform", cesium().string(), "--spec", spec, "-o", cli.string(), "--force"});
+    const Points a = read_obj_vertices(viewer), b = read_obj_vertices(cli);
+    ASSERT_EQ(a.rows(), b.rows());
+    EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5) << name;
+    // The deformed model keeps its rig and clips.
+    const RiggedModel m = cgamesh::io::load_model(rigged);
+    EXPECT_EQ(m.clips.size(), 1u);
+    EXPECT_FALSE(m.meshes[0].skin.empty());
+  }
 }
 
 TEST(CliView, WorksOnAnAssimpTestModel) {

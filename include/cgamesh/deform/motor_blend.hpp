@@ -34,6 +34,11 @@ namespace cgamesh::deform {
 /// @return [A b], A = s R
 [[nodiscard]] Eigen::Matrix<double, 3, 4> similarity_exp_affine(const cga::SimilarityGenerator<double>& b) noexcept;
 
+/// The principal logs of similarity versors (the generators a blend sums, eq. 1).
+/// @param[in] keys  TRS versors
+/// @throws InvalidInputError "key j: ..." for a versor that is not a similarity.
+[[nodiscard]] std::vector<cga::SimilarityGenerator<double>> similarity_logs(std::span<const cga::Versor<double>> keys);
+
 /// #V x n per-vertex weights, a vertex's weights contiguous.
 using WeightMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 

@@ -22,6 +22,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/cga/multivector.hpp"
 #include "cgamesh/deform/fabrik.hpp"
+#include "cgamesh/deform/ffd.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
 #include "cgamesh/deform/motor_blend.hpp"
 #include "cgamesh/deform/spline_deform.hpp"
@@ -32,6 +33,25 @@ namespace cgamesh::deform {
 enum class DeformMethod {
   spline,    ///< spline-aligned (III): two handles, the keys along the harmonic parameter
   harmonic,  ///< harmonic coordinates (IV): one key per handle
+  ffd,       ///< free-form deformation (V): handles select lattice control points, one key each
+};
+
+/// The method's name in a spec ("spline", "harmonic", "ffd").
+[[nodiscard]] const char* method_name(DeformMethod method) noexcept;
+
+/// How an FFD spec moves its lattice (section V).
+enum class FfdVariant {
+  classic,  ///< each control point moved by its key, eq. 6
+  motor,    ///< each control point carries its key as a motor, blended by eqs. 7-8
+};
+
+/// The lattice of an FFD spec; its box is resolved against the mesh at bind.
+struct LatticeSpec {
+  std::array<int, 3> resolution{2, 2, 2};  ///< control points per axis, each in [2, kMaxLatticeResolution]
+  LatticeBasis basis = LatticeBasis::bernstein;
+  BsplineEnds ends = BsplineEnds::linear;
+  std::optional<LatticeBox> box;  ///< unset: the mesh's bounding box grown by `margin`
+  double margin = 0.01;           ///< × the bounding box diagonal, on every side; ≥ 0
 };
 
 enum class DeformSpace {
@@ -46,12 +66,14 @@ enum class FreeParts {
   keep,     ///< stays in place
 };
 
-/// A handle's vertex set as the spec gives it.
+/// A handle's vertex set as the spec gives it; for the ffd method a set of lattice control points
+/// (lattice_points, or the sphere or box containing their rest positions).
 struct HandleSelection {
-  enum class Kind { indices, sphere, box };
+  enum class Kind { indices, sphere, box, lattice_points };
   Kind kind = Kind::indices;
-  std::vector<int> indices;       ///< Kind::indices: vertex indices of the mesh (≥ 0)
-  std::array<double, 6> shape{};  ///< sphere: x, y, z, r; box: x0, y0, z0, x1, y1, z1
+  std::vector<int> indices;                ///< Kind::indices: vertex indices of the mesh (≥ 0)
+  std::vector<std::array<int, 3>> points;  ///< Kind::lattice_points: control points [u, v, k] (ffd)
+  std::array<double, 6> shape{};           ///< sphere: x, y, z, r; box: x0, y0, z0, x1, y1, z1
 };
 
 /// A key: x ↦ scale·R(axis, degrees)(x − center) + center + translate.
@@ -85,6 +107,8 @@ struct DeformSpec {
   SplineBasis basis = SplineBasis::bspline;
   int degree = 3;
   FreeParts free_parts = FreeParts::nearest;
+  LatticeSpec lattice;                     ///< ffd only
+  FfdVariant variant = FfdVariant::motor;  ///< ffd only
 };
 
 /// Parses a spec from JSON text.
@@ -115,8 +139,8 @@ struct SpecBindOptions {
 };
 
 /// A spec bound to one mesh of a model: the selections resolved, the harmonic field solved and
-/// the blend weights built once; apply() then costs one blend per vertex (eq. 2), for the spec's
-/// keys or any others.
+/// the blend weights built once (ffd: the lattice weights); apply() then costs one blend per
+/// vertex (eq. 2; ffd: eq. 6 or 7), for the spec's keys or any others.
 class BoundDeformer {
  public:
   /// Binds `spec` to mesh `spec.mesh` of `model` (sections III.A, IV). Connected parts without a
@@ -130,6 +154,8 @@ class BoundDeformer {
   ///         "spec.ik.joints: ..." for a count the method or basis cannot take (harmonic: one key
   ///         per handle; spline: 2 handles, keys as spline_weights() takes them); "spec.ik: ..." when FABRIK refuses
   ///         the chain; "spec.space: ..." for world space on a mesh whose bind skinning is singular at a vertex;
+  ///         ffd: "spec.handles[h]: ..." for a control point outside the lattice or a selection of
+  ///         none, "spec.lattice.margin: ..." for a mesh flat along an axis without a margin;
   ///         SolverError as harmonic_precompute().
   BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& model, const SpecBindOptions& options = {});
 
@@ -145,11 +171,18 @@ class BoundDeformer {
   /// Per handle, its vertex indices in the mesh (sorted for boxes and spheres, as given for
   /// index lists): what a viewer draws, at rest_positions() or at the apply() result.
   [[nodiscard]] const std::vector<std::vector<int>>& handles() const noexcept { return handles_; }
-  /// Vertices of the parts that hold no handle vertex, ascending.
+  /// Vertices of the parts that hold no handle vertex, ascending (ffd: outside the lattice box).
   [[nodiscard]] const std::vector<int>& free_vertices() const noexcept { return free_; }
+  /// The bound lattice (ffd), else null.
+  [[nodiscard]] const FreeFormDeformation* ffd() const noexcept { return ffd_ ? &*ffd_ : nullptr; }
+  /// Per handle, its control point indices (Lattice::index()) for ffd; empty otherwise. An ffd
+  /// handle selects no vertex: handles() then holds an empty set per handle.
+  [[nodiscard]] const std::vector<std::vector<int>>& control_handles() const noexcept { return control_handles_; }
 
   /// One frame: every vertex by its blended motor under `keys` (eq. 2); a free part by its
-  /// handle's key (FreeParts::nearest) or not at all (keep).
+  /// handle's key (FreeParts::nearest) or not at all (keep). ffd: each control point moved by
+  /// the keys of the handles that select it, composed in handle order (identity when none), then
+  /// eq. 6 (classic) or eqs. 7-8 (motor).
   /// @param[in]  keys  #n key versors (TRS similarities), in the order of keys()
   /// @param[out] out   #V×3 positions in space() (resized)
   /// @throws InvalidInputError when keys has the wrong size or a key is not a similarity.
@@ -174,6 +207,9 @@ class BoundDeformer {
                                                  const mesh::RowMatrixXf<3>& positions) const;
 
  private:
+  void bind_ffd(const DeformSpec& spec, const SpecBindOptions& options);
+  void apply_ffd(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const;
+
   int mesh_ = 0;
   DeformSpace space_ = DeformSpace::mesh;
   std::vector<cga::Versor<double>> keys_;
@@ -186,6 +222,11 @@ class BoundDeformer {
   /// Mesh vertex of each vertex the blend deforms; empty when it deforms them all.
   std::vector<int> blended_;
   std::optional<MotorBlend> blend_;
+  std::optional<FreeFormDeformation> ffd_;
+  FfdVariant variant_ = FfdVariant::motor;
+  std::vector<std::vector<int>> control_handles_;
+  /// ffd: per control point, the handles that select it, ascending.
+  std::vector<std::vector<int>> keys_of_point_;
   /// World space: #V inverse bind maps [A⁻¹  −A⁻¹ b].
   std::vector<Eigen::Matrix<double, 3, 4>> to_mesh_;
 };
