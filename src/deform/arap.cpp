@@ -47,8 +47,8 @@ double minor3(const Eigen::Matrix4d& a, int r, int c) {
 /// The unit quaternion (w, x, y, z) of the top eigenvector of Horn's matrix. The largest root
 /// of the characteristic quartic λ⁴ − 2‖S‖² λ² − 8 det(S) λ + det(P) (P is traceless and
 /// ‖P‖² = 4‖S‖²) by Newton from the bound √3‖S‖ ≥ σ₁ + σ₂ + σ₃ ≥ λ_max, where the quartic is
-/// convex and Newton descends monotonically; then the eigenvector as the largest column of the
-/// adjugate of P − λI (rank 3). Cheaper than a 4×4 eigensolver, as accurate (tests compare
+/// convex and Newton descends monotonically; then the eigenvector as a column of the adjugate
+/// of P − λI (rank 3). Cheaper than a 4×4 eigensolver, as accurate (tests compare
 /// it with the SVD to 1e-9).
 Eigen::Vector4d top_quaternion(const Eigen::Matrix3d& s) {
   const double norm2 = s.squaredNorm();
@@ -66,12 +66,16 @@ Eigen::Vector4d top_quaternion(const Eigen::Matrix3d& s) {
   }
   Eigen::Matrix4d a = p;
   a.diagonal().array() -= lambda;
-  Eigen::Vector4d best = Eigen::Vector4d::Zero();
+  // adj(A) = Π_{k>1} (λ_k − λ) q qᵀ: its largest diagonal entry picks the column along q's
+  // largest component, the best conditioned one (7 minors instead of 16).
+  int column = 0;
+  double largest = 0;
   for (int c = 0; c < 4; ++c) {
-    Eigen::Vector4d column;
-    for (int r = 0; r < 4; ++r) column[r] = ((r + c) % 2 == 0 ? 1 : -1) * minor3(a, c, r);
-    if (column.squaredNorm() > best.squaredNorm()) best = column;
+    const double d = std::abs(minor3(a, c, c));
+    if (d > largest) largest = d, column = c;
   }
+  Eigen::Vector4d best;
+  for (int r = 0; r < 4; ++r) best[r] = ((r + column) % 2 == 0 ? 1 : -1) * minor3(a, column, r);
   // A repeated top eigenvalue (S of rank ≤ 1: collinear edges) leaves the adjugate ~0 and the
   // rotation undetermined; any eigenvector of the eigensolver is then as good.
   if (!(best.squaredNorm() > 1e-24 * norm2 * norm2 * norm2)) {
