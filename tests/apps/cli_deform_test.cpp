@@ -93,10 +93,21 @@ TEST(CliDeform, BadSpecsNameTheField) {
   EXPECT_NE(directory.err.find("is a directory"), std::string::npos) << directory;
 }
 
+/// Each spec text exits 2 naming its field.
+void expect_bad_specs(const TempDir& dir, const std::string& model,
+                      std::span<const std::pair<std::string, const char*>> cases) {
+  const std::string out = (dir.path() / "out.obj").string();
+  for (const auto& [text, field] : cases) {
+    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
+    EXPECT_EQ(r.code, 2) << text << "\n" << r;
+    EXPECT_NE(r.err.find(field), std::string::npos) << r;
+  }
+}
+
 // Every ffd field: a bad value exits 2 naming it.
 TEST(CliDeform, FfdBadSpecsNameTheField) {
   TempDir dir;
-  const std::string model = cgamesh_test::asset("spot.obj").string(), out = (dir.path() / "out.obj").string();
+  const std::string model = cgamesh_test::asset("spot.obj").string();
   const std::string tail = R"("handles": [[[0, 0, 0]]], "keys": [{}]})";
   const std::pair<std::string, const char*> cases[] = {
       {R"({"method": "ffd", "variant": "soft", )" + tail, "spec.variant"},
@@ -120,17 +131,13 @@ TEST(CliDeform, FfdBadSpecsNameTheField) {
       {R"({"method": "ffd", "degree": 2, )" + tail, "spec.degree"},
       {R"({"method": "spline", "variant": "motor", "handles": [[0], [1]], "keys": [{}, {}]})", "spec.variant"},
   };
-  for (const auto& [text, field] : cases) {
-    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
-    EXPECT_EQ(r.code, 2) << text << "\n" << r;
-    EXPECT_NE(r.err.find(field), std::string::npos) << r;
-  }
+  expect_bad_specs(dir, model, cases);
 }
 
 // Every arap field: a bad value exits 2 naming it.
 TEST(CliDeform, ArapBadSpecsNameTheField) {
   TempDir dir;
-  const std::string model = cgamesh_test::asset("spot.obj").string(), out = (dir.path() / "out.obj").string();
+  const std::string model = cgamesh_test::asset("spot.obj").string();
   const std::string tail = R"("handles": [[0], [1]], "keys": [{}, {}]})";
   const std::pair<std::string, const char*> cases[] = {
       {R"({"method": "arap", "weights": "mean_value", )" + tail, "spec.weights"},
@@ -148,11 +155,7 @@ TEST(CliDeform, ArapBadSpecsNameTheField) {
       {R"({"method": "harmonic", "iterations": 3, )" + tail, "spec.iterations"},
       {R"({"method": "spline", "energy": "spokes", )" + tail, "spec.energy"},
   };
-  for (const auto& [text, field] : cases) {
-    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
-    EXPECT_EQ(r.code, 2) << text << "\n" << r;
-    EXPECT_NE(r.err.find(field), std::string::npos) << r;
-  }
+  expect_bad_specs(dir, model, cases);
 }
 
 // The example ARAP bends run; --json reports the energy per iteration, never increasing, and the

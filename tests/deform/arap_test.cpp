@@ -218,7 +218,8 @@ Eigen::MatrixXd dense_arap(const mesh::Mesh& m, const std::vector<int>& handles,
     for (int i = 0; i < n; ++i)
       if (fixed[static_cast<std::size_t>(i)]) fixed_rows.push_back(i);
     const Eigen::MatrixXd rhs = b(free, Eigen::all) - l(free, fixed_rows) * p(fixed_rows, Eigen::all);
-    p(free, Eigen::all) = solver.solve(rhs);
+    const Eigen::MatrixXd x = solver.solve(rhs);
+    p(free, Eigen::all) = x;
   }
   return p;
 }
