@@ -158,8 +158,8 @@ TEST(CliDeform, ArapBadSpecsNameTheField) {
   expect_bad_specs(dir, model, cases);
 }
 
-// The example ARAP bends run; --json reports the energy per iteration, never increasing, and the
-// handles sit at their keys.
+// The example ARAP bends run and move the mesh; --json reports the energy per iteration, never
+// increasing; identity keys keep the mesh with every option set.
 TEST(CliDeform, ArapExampleSpecsRunAndReportTheEnergy) {
   TempDir dir;
   for (const auto& [asset, name] :
