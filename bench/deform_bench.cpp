@@ -4,9 +4,12 @@
 // vertices; single thread and all threads. FFD (section V) frames, classic and motor, on the
 // million-vertex mesh. The million-vertex frame takes its parameter from
 // the height instead of a harmonic solve (the frame cost does not depend on where lambda
-// comes from). Also the factorisation and the solve of the harmonic field on ogre.
+// comes from). Also the factorisation and the solve of the harmonic field on ogre. ARAP
+// (section VII): precompute and time per iteration on cow, arm_16k, stanford-bunny and ogre, one
+// thread and all threads, rotor and SVD local steps.
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <numbers>
@@ -15,10 +18,12 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <benchmark/benchmark.h>
 
 #include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/cga/versors.hpp"
+#include "cgamesh/deform/arap.hpp"
 #include "cgamesh/deform/ffd.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
 #include "cgamesh/deform/spline_deform.hpp"
@@ -259,6 +264,89 @@ void BM_DeformHarmonicSolveOgre(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(deform::harmonic_solve(pre, boundary).data());
 }
 
+/// The ARAP handles of a shared mesh (start_handle() and the top slab) and their targets: the
+/// top slab turned by 0.5 rad about z about its centre and moved by 10% of the height.
+struct ArapProblem {
+  std::vector<int> handles;
+  Eigen::MatrixXd targets;
+};
+ArapProblem arap_problem(const mesh::Mesh& m) {
+  ArapProblem p;
+  p.handles = ogre_constraints(m);
+  const std::size_t fixed = start_handle(m).size();
+  const std::vector<int> top = slab(m, true);
+  Eigen::MatrixXd rest = m.positions(p.handles, Eigen::all).cast<double>();
+  const Eigen::Vector3d centre = rest.bottomRows(static_cast<Eigen::Index>(top.size())).colwise().mean().transpose();
+  const double height = m.positions.col(1).maxCoeff() - m.positions.col(1).minCoeff();
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  p.targets = rest;
+  for (auto i = static_cast<Eigen::Index>(fixed); i < rest.rows(); ++i)
+    p.targets.row(i) =
+        (r * (rest.row(i).transpose() - centre) + centre + Eigen::Vector3d(0.1 * height, 0, 0)).transpose();
+  return p;
+}
+
+void BM_ArapPrecompute(benchmark::State& state, const std::string& name) {
+  const mesh::Mesh* m = shared_mesh(name);
+  if (m == nullptr) return state.SkipWithError("model not found (../shared/data is not present)");
+  const ArapProblem problem = arap_problem(*m);
+  deform::ArapOptions options;
+  options.threads = 1;
+  Eigen::Index nodes = 0;
+  for (auto _ : state) nodes = deform::arap_precompute(*m, problem.handles, options).node_count();
+  state.counters["vertices"] = static_cast<double>(nodes);  // after welding
+}
+
+/// Args: threads (0 = all), local step (0 rotor, 1 SVD). 10 iterations from the rest shape per
+/// solve; `iteration` is the time of one (the initial local step shared out).
+void BM_ArapIteration(benchmark::State& state, const std::string& name) {
+  const mesh::Mesh* m = shared_mesh(name);
+  if (m == nullptr) return state.SkipWithError("model not found (../shared/data is not present)");
+  const ArapProblem problem = arap_problem(*m);
+  deform::ArapOptions options;
+  options.threads = static_cast<int>(state.range(0));
+  options.local_step = state.range(1) == 0 ? deform::ArapLocalStep::rotor : deform::ArapLocalStep::svd;
+  const deform::ArapData data = deform::arap_precompute(*m, problem.handles, options);
+  Eigen::MatrixXd positions;
+  for (auto _ : state) {
+    positions.resize(0, 3);
+    benchmark::DoNotOptimize(deform::arap_solve(data, problem.targets, positions).iterations);
+  }
+  state.counters["vertices"] = static_cast<double>(data.node_count());
+  state.counters["iteration"] = benchmark::Counter(static_cast<double>(state.iterations() * options.iterations),
+                                                   benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+/// The local step's rotation alone for 4096 random covariances (near-rotations of 7 weighted
+/// edges, as a cell sees them): Horn's rotor (arg 0) or the SVD (arg 1).
+void BM_ArapRotation(benchmark::State& state) {
+  std::vector<Eigen::Matrix3d> covariances;
+  unsigned seed = 1;
+  const auto next = [&] {
+    seed = seed * 1664525u + 1013904223u;
+    return static_cast<double>(seed >> 8) / (1u << 24) - 0.5;
+  };
+  for (int i = 0; i < 4096; ++i) {
+    const Eigen::Matrix3d r =
+        Eigen::AngleAxisd(3 * next(), Eigen::Vector3d(next(), next(), next()).normalized()).toRotationMatrix();
+    Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
+    for (int e = 0; e < 7; ++e) {
+      const Eigen::Vector3d v(next(), next(), next());
+      s += (0.5 + next()) * v * (r * v + 0.1 * Eigen::Vector3d(next(), next(), next())).transpose();
+    }
+    covariances.push_back(s);
+  }
+  const bool svd = state.range(0) == 1;
+  for (auto _ : state)
+    for (const Eigen::Matrix3d& s : covariances) {
+      if (svd)
+        benchmark::DoNotOptimize(deform::arap_rotation_svd(s).data());
+      else
+        benchmark::DoNotOptimize(deform::arap_rotor(s));
+    }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(covariances.size()));
+}
+
 // Arg: threads (0 = all).
 BENCHMARK_CAPTURE(BM_DeformBind, cow, std::string("cow.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DeformBind, ogre, std::string("ogre.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -289,5 +377,29 @@ BENCHMARK_CAPTURE(BM_FfdFrame, bspline, deform::LatticeBasis::bspline)
 BENCHMARK_CAPTURE(BM_FfdBind, bspline, deform::LatticeBasis::bspline)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DeformHarmonicFactorOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DeformHarmonicSolveOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ArapPrecompute, cow, std::string("cow.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ArapPrecompute, arm_16k, std::string("arm_16k.ply"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ArapPrecompute, bunny, std::string("stanford-bunny.obj"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ArapPrecompute, ogre, std::string("ogre.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
+// Args: threads (0 = all), local step (0 rotor, 1 SVD).
+BENCHMARK_CAPTURE(BM_ArapIteration, cow, std::string("cow.obj"))
+    ->ArgsProduct({{1, 0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ArapIteration, arm_16k, std::string("arm_16k.ply"))
+    ->ArgsProduct({{1, 0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ArapIteration, bunny, std::string("stanford-bunny.obj"))
+    ->ArgsProduct({{1, 0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ArapIteration, ogre, std::string("ogre.obj"))
+    ->ArgsProduct({{1, 0}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ArapRotation)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 }  // namespace

@@ -32,11 +32,14 @@ done
   -o out/cesium_drilled.glb
 echo "demo: wrote $(ls out | wc -l) files to out/"
 ls -1 out
-# Motor-handle deformation (paper sections III, IV, V): spline bend, harmonic handles, FABRIK chain,
+# Motor-handle deformation (paper sections III, IV, V, VII): spline bend, harmonic handles, FABRIK chain,
 # a lattice twist by motors and by classic FFD.
 for spec in cesiumman_bend cesiumman_handles cesiumman_ik ffd_twist_motor ffd_twist_classic; do
   "$cli" deform "$model" --spec data/specs/$spec.json -o out/$spec.obj
 done
+# ARAP with rotors (section VII) on the cow and the arm of tests/assets: the neck lifted, the arm bent.
+"$cli" deform tests/assets/cow.obj --spec data/specs/arap_cow_bend.json -o out/arap_cow_bend.obj
+"$cli" deform tests/assets/arm_16k.ply --spec data/specs/arap_arm_bend.json -o out/arap_arm_bend.ply
 # The same bend written with its rig: the edited rest shape re-animates.
 "$cli" deform "$model" --spec data/specs/cesiumman_bend.json -o out/cesiumman_bend.glb
 
@@ -66,4 +69,6 @@ for spec in cesiumman_bend cesiumman_handles cesiumman_ik ffd_twist_motor ffd_tw
   "${render[@]}" out/$spec.obj --camera 1,0.75,-0.4,0,0.75,0,0,1,0 --frame -o out/$spec.png
 done
 "${render[@]}" out/cesiumman_bend.glb --anim 0 --time 0.5 --view right -o out/cesiumman_bend_walking.png
+"${render[@]}" out/arap_cow_bend.obj --view front -o out/arap_cow_bend.png
+"${render[@]}" out/arap_arm_bend.ply --view front -o out/arap_arm_bend.png
 echo "demo: pictures in out/*.png"

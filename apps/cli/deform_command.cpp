@@ -37,7 +37,9 @@ struct DeformCommand {
     const deform::BoundDeformer bound(spec, m);
     const double bind_ms = milliseconds_since(start_bind);
     const auto start = std::chrono::steady_clock::now();
-    const mesh::RowMatrixXf<3> deformed = bound.apply(bound.keys());
+    mesh::RowMatrixXf<3> deformed;
+    deform::ArapReport arap;
+    bound.apply(bound.keys(), deformed, &arap);
     const double deform_ms = milliseconds_since(start);
 
     std::vector<std::string> warnings = m.warnings;
@@ -71,6 +73,8 @@ struct DeformCommand {
       summary["control_points"] = ffd->lattice().count();
       summary["handle_control_points"] = points;
     }
+    if (spec.method == deform::DeformMethod::arap)
+      summary["arap"] = {{"iterations", arap.iterations}, {"energies", arap.energies}};
     const auto& ik = bound.ik();
     if (ik) summary["ik"] = {{"reached", ik->reached}, {"distance", ik->distance}, {"iterations", ik->iterations}};
     if (json) {
@@ -86,6 +90,9 @@ struct DeformCommand {
       std::cout << "  " << bound.free_vertices().size() << " vertices in parts without a handle "
                 << (spec.free_parts == deform::FreeParts::nearest ? "move with the nearest handle" : "stay in place")
                 << "\n";
+    if (spec.method == deform::DeformMethod::arap)
+      std::cout << "  ARAP: " << arap.iterations << " iterations, energy " << arap.energies.front() << " -> "
+                << arap.energies.back() << "\n";
     if (ik && !ik->reached) std::cout << "  warning: the IK target is out of reach (" << ik->distance << " away)\n";
   }
 };
@@ -96,7 +103,8 @@ void add_deform(CLI::App& app) {
   auto c = std::make_shared<DeformCommand>();
   auto* sub = app.add_subcommand(
       "deform",
-      "motor-handle deformation (spline-aligned, harmonic coordinates or free-form lattice) from a JSON spec; acts on "
+      "motor-handle deformation (spline-aligned, harmonic coordinates, free-form lattice or as-rigid-as-possible) from "
+      "a JSON spec; acts on "
       "the bind pose "
       "in world space for a rigged model (the boxes of `info`), else in mesh space (\"space\" in the spec chooses)");
   sub->add_option("MESH", c->model, "model file (.obj, .ply, .glb, ...)")->required();

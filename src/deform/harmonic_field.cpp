@@ -17,14 +17,12 @@ namespace cgamesh::deform {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
-SparseMatrix laplacian_edge_weights(const mesh::Mesh& mesh, std::span<const int> node, int node_count,
-                                    LaplacianWeights weights) {
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(mesh.face_count()) * 12);
-  const auto add = [&](int i, int j, double w) {
-    triplets.emplace_back(i, j, w);
-    triplets.emplace_back(j, i, w);
-  };
+namespace {
+
+/// Calls visit(nodes, positions) for each face of `mesh` whose corners are three distinct nodes
+/// and whose area is not zero: the triangles that carry Laplacian weights.
+template <class Visit>
+void for_each_weighted_triangle(const mesh::Mesh& mesh, std::span<const int> node, Visit&& visit) {
   for (Eigen::Index f = 0; f < mesh.face_count(); ++f) {
     std::array<int, 3> v{}, n{};
     for (int c = 0; c < 3; ++c) {
@@ -39,20 +37,55 @@ SparseMatrix laplacian_edge_weights(const mesh::Mesh& mesh, std::span<const int>
     for (int c = 0; c < 3; ++c) p[c] = mesh.positions.row(v[c]).transpose().cast<double>();
     // Zero area: every angle is 0 or pi, and tan(pi/2) is infinite.
     if (!((p[1] - p[0]).cross(p[2] - p[0]).norm() > 0)) continue;
+    visit(n, p);
+  }
+}
+
+/// Half the cotangent of the angle at each corner (the weight of the opposite edge).
+std::array<double, 3> half_cotangents(const std::array<Eigen::Vector3d, 3>& p, bool clamped) {
+  std::array<double, 3> out{};
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::Vector3d a = p[(c + 1) % 3] - p[c], b = p[(c + 2) % 3] - p[c];
+    out[c] = 0.5 * a.dot(b) / a.cross(b).norm();
+    if (clamped) out[c] = std::max(out[c], 0.0);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<CotangentTriangle> cotangent_triangles(const mesh::Mesh& mesh, std::span<const int> node, bool clamped) {
+  std::vector<CotangentTriangle> out;
+  out.reserve(static_cast<std::size_t>(mesh.face_count()));
+  for_each_weighted_triangle(mesh, node, [&](const std::array<int, 3>& n, const std::array<Eigen::Vector3d, 3>& p) {
+    out.push_back({n, half_cotangents(p, clamped)});
+  });
+  return out;
+}
+
+SparseMatrix laplacian_edge_weights(const mesh::Mesh& mesh, std::span<const int> node, int node_count,
+                                    LaplacianWeights weights) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(mesh.face_count()) * 12);
+  const auto add = [&](int i, int j, double w) {
+    triplets.emplace_back(i, j, w);
+    triplets.emplace_back(j, i, w);
+  };
+  for_each_weighted_triangle(mesh, node, [&](const std::array<int, 3>& n, const std::array<Eigen::Vector3d, 3>& p) {
+    if (weights != LaplacianWeights::mean_value) {
+      const std::array<double, 3> w = half_cotangents(p, weights == LaplacianWeights::clamped_cotangent);
+      for (int c = 0; c < 3; ++c) add(n[(c + 1) % 3], n[(c + 2) % 3], w[c]);
+      return;
+    }
     for (int c = 0; c < 3; ++c) {
       const int j = (c + 1) % 3, k = (c + 2) % 3;
       const Eigen::Vector3d a = p[j] - p[c], b = p[k] - p[c];
-      const double cross = a.cross(b).norm(), dot = a.dot(b);
-      if (weights == LaplacianWeights::mean_value) {
-        // tan(theta/2) = |a x b| / (|a||b| + a.b); each direction counts half (symmetrised).
-        const double half_tan = cross / (a.norm() * b.norm() + dot);
-        add(n[c], n[j], 0.5 * half_tan / a.norm());
-        add(n[c], n[k], 0.5 * half_tan / b.norm());
-      } else {
-        add(n[j], n[k], 0.5 * dot / cross);
-      }
+      // tan(theta/2) = |a x b| / (|a||b| + a.b); each direction counts half (symmetrised).
+      const double half_tan = a.cross(b).norm() / (a.norm() * b.norm() + a.dot(b));
+      add(n[c], n[j], 0.5 * half_tan / a.norm());
+      add(n[c], n[k], 0.5 * half_tan / b.norm());
     }
-  }
+  });
   SparseMatrix w(node_count, node_count);
   w.setFromTriplets(triplets.begin(), triplets.end());
   return w;
@@ -107,8 +140,10 @@ HarmonicPrecomputation harmonic_precompute(const mesh::Mesh& mesh, std::span<con
       const int si = slot[static_cast<std::size_t>(it.row())], sj = slot[static_cast<std::size_t>(col)];
       if (si < 0 || it.row() == col) continue;
       diagonal[si] += it.value();
-      if (sj >= 0) ff.emplace_back(si, sj, -it.value());
-      else fc.emplace_back(si, -1 - sj, it.value());
+      if (sj >= 0)
+        ff.emplace_back(si, sj, -it.value());
+      else
+        fc.emplace_back(si, -1 - sj, it.value());
     }
   for (int i = 0; i < free_count; ++i) ff.emplace_back(i, i, diagonal[i]);
   SparseMatrix lff(free_count, free_count);
@@ -118,19 +153,19 @@ HarmonicPrecomputation harmonic_precompute(const mesh::Mesh& mesh, std::span<con
   if (free_count > 0) {
     pre.ldlt = std::make_unique<Eigen::SimplicialLDLT<SparseMatrix>>(lff);
     if (pre.ldlt->info() != Eigen::Success)
-      throw SolverError("harmonic field: the factorisation of the Laplacian failed (degenerate triangles, or "
-                        "cotangent weights on a mesh with very obtuse triangles: try mean-value weights)");
+      throw SolverError(
+          "harmonic field: the factorisation of the Laplacian failed (degenerate triangles, or "
+          "cotangent weights on a mesh with very obtuse triangles: try mean-value weights)");
   }
   return pre;
 }
 
-Eigen::MatrixXd harmonic_solve(const HarmonicPrecomputation& pre, const Eigen::MatrixXd& boundary) {
+Eigen::MatrixXd constrained_node_values(const HarmonicPrecomputation& pre, const Eigen::MatrixXd& boundary) {
   if (boundary.rows() != pre.constrained_count())
-    throw InvalidInputError("harmonic_solve: " + std::to_string(boundary.rows()) + " rows of boundary values for " +
+    throw InvalidInputError(std::to_string(boundary.rows()) + " rows of boundary values for " +
                             std::to_string(pre.constrained_count()) + " constrained vertices");
-  if (!boundary.allFinite()) throw InvalidInputError("harmonic_solve: a boundary value is NaN or infinite");
-  const Eigen::Index k = boundary.cols();
-  Eigen::MatrixXd xc(pre.constrained_nodes, k);
+  if (!boundary.allFinite()) throw InvalidInputError("a boundary value is NaN or infinite");
+  Eigen::MatrixXd xc(pre.constrained_nodes, boundary.cols());
   std::vector<int> row_of_slot(static_cast<std::size_t>(pre.constrained_nodes), -1);
   for (std::size_t r = 0; r < pre.constrained.size(); ++r) {
     const int v = pre.constrained[r];
@@ -140,10 +175,20 @@ Eigen::MatrixXd harmonic_solve(const HarmonicPrecomputation& pre, const Eigen::M
       first = static_cast<int>(r);
       xc.row(c) = boundary.row(static_cast<Eigen::Index>(r));
     } else if (xc.row(c) != boundary.row(static_cast<Eigen::Index>(r))) {
-      throw InvalidInputError("harmonic_solve: vertex " + std::to_string(v) + " gets a value different from vertex " +
+      throw InvalidInputError("vertex " + std::to_string(v) + " gets a value different from vertex " +
                               std::to_string(pre.constrained[static_cast<std::size_t>(first)]) +
                               " at the same position (or listed twice)");
     }
+  }
+  return xc;
+}
+
+Eigen::MatrixXd harmonic_solve(const HarmonicPrecomputation& pre, const Eigen::MatrixXd& boundary) {
+  Eigen::MatrixXd xc;
+  try {
+    xc = constrained_node_values(pre, boundary);
+  } catch (const InvalidInputError& e) {
+    throw InvalidInputError(std::string("harmonic_solve: ") + e.what());
   }
   Eigen::MatrixXd xf;
   if (pre.free_by_constrained.rows() > 0) {
@@ -151,7 +196,7 @@ Eigen::MatrixXd harmonic_solve(const HarmonicPrecomputation& pre, const Eigen::M
     if (pre.ldlt->info() != Eigen::Success || !xf.allFinite())
       throw SolverError("harmonic_solve: the solve failed (non-finite result)");
   }
-  Eigen::MatrixXd out(pre.vertex_count(), k);
+  Eigen::MatrixXd out(pre.vertex_count(), boundary.cols());
   for (Eigen::Index v = 0; v < out.rows(); ++v) {
     const int s = pre.slot_of_node[static_cast<std::size_t>(pre.node_of_vertex[static_cast<std::size_t>(v)])];
     out.row(v) = s >= 0 ? xf.row(s) : xc.row(-1 - s);

@@ -29,6 +29,9 @@ namespace {
 
 using Json = nlohmann::json;
 
+/// More iterations than this are a typo, not a request (each costs a solve).
+constexpr int kMaxArapIterations = 100000;
+
 [[noreturn]] void bad(const std::string& field, const std::string& what) {
   throw InvalidInputError("spec." + field + ": " + what);
 }
@@ -194,6 +197,33 @@ LatticeSpec parse_lattice(const Json& j) {
   return l;
 }
 
+/// The arap method's options: "weights", "energy", "local_step", "iterations", "tolerance".
+ArapOptions parse_arap(const Json& j) {
+  ArapOptions a;
+  a.weights = choice<LaplacianWeights>(
+      j, "weights",
+      {{"cotangent", LaplacianWeights::cotangent}, {"clamped_cotangent", LaplacianWeights::clamped_cotangent}},
+      LaplacianWeights::cotangent);
+  a.energy = choice<ArapEnergy>(j, "energy",
+                                {{"spokes", ArapEnergy::spokes}, {"spokes_and_rims", ArapEnergy::spokes_and_rims}},
+                                ArapEnergy::spokes_and_rims);
+  a.local_step = choice<ArapLocalStep>(j, "local_step", {{"rotor", ArapLocalStep::rotor}, {"svd", ArapLocalStep::svd}},
+                                       ArapLocalStep::rotor);
+  if (j.contains("iterations")) {
+    const Json& n = j["iterations"];
+    if (!n.is_number_integer() || n.get<long long>() < 1 || n.get<long long>() > kMaxArapIterations)
+      bad("iterations", "expected an integer in [1, " + std::to_string(kMaxArapIterations) + "]");
+    a.iterations = n.get<int>();
+  }
+  if (j.contains("tolerance")) {
+    const Json& t = j["tolerance"];
+    if (!t.is_number() || !std::isfinite(t.get<double>()) || t.get<double>() < 0)
+      bad("tolerance", "expected a finite number >= 0 (the relative energy decrease that stops the iterations)");
+    a.tolerance = t.get<double>();
+  }
+  return a;
+}
+
 IkChain parse_ik(const Json& ik) {
   if (!ik.is_object() || !ik.contains("joints") || !ik["joints"].is_array() || !ik.contains("target"))
     bad("ik", "expected {\"joints\": [[x, y, z], ...], \"target\": [x, y, z]}");
@@ -331,6 +361,8 @@ const char* method_name(DeformMethod method) noexcept {
       return "harmonic";
     case DeformMethod::ffd:
       return "ffd";
+    case DeformMethod::arap:
+      return "arap";
   }
   return "?";
 }
@@ -345,19 +377,28 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
   if (!j.is_object()) throw InvalidInputError("spec " + source + ": expected a JSON object");
   only_fields(j,
               {"method", "mesh", "space", "weights", "handles", "keys", "basis", "degree", "ik", "free_parts",
-               "lattice", "variant"},
+               "lattice", "variant", "energy", "local_step", "iterations", "tolerance"},
               "");
   DeformSpec s;
-  if (!j.contains("method")) bad("method", "missing (spline, harmonic or ffd)");
-  s.method = choice<DeformMethod>(
-      j, "method", {{"spline", DeformMethod::spline}, {"harmonic", DeformMethod::harmonic}, {"ffd", DeformMethod::ffd}},
-      DeformMethod::spline);
+  if (!j.contains("method")) bad("method", "missing (spline, harmonic, ffd or arap)");
+  s.method = choice<DeformMethod>(j, "method",
+                                  {{"spline", DeformMethod::spline},
+                                   {"harmonic", DeformMethod::harmonic},
+                                   {"ffd", DeformMethod::ffd},
+                                   {"arap", DeformMethod::arap}},
+                                  DeformMethod::spline);
   // Each method's own fields: a field another method reads is an error, not silently ignored.
   const bool ffd = s.method == DeformMethod::ffd;
   for (const char* field : {"weights", "basis", "degree", "ik", "free_parts"})
     if (ffd && j.contains(field)) bad(field, "not a field of the ffd method (see lattice)");
   for (const char* field : {"lattice", "variant"})
     if (!ffd && j.contains(field)) bad(field, "only the ffd method takes it");
+  const bool arap = s.method == DeformMethod::arap;
+  for (const char* field : {"energy", "local_step", "iterations", "tolerance"})
+    if (!arap && j.contains(field)) bad(field, "only the arap method takes it");
+  for (const char* field : {"basis", "degree"})
+    if (arap && j.contains(field)) bad(field, "not a field of the arap method");
+  if (arap) s.arap = parse_arap(j);
   if (ffd && j.contains("lattice")) s.lattice = parse_lattice(j["lattice"]);
   s.variant = choice<FfdVariant>(j, "variant", {{"classic", FfdVariant::classic}, {"motor", FfdVariant::motor}},
                                  FfdVariant::motor);
@@ -366,9 +407,10 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
   if (j.contains("space"))
     s.space = choice<DeformSpace>(j, "space", {{"mesh", DeformSpace::mesh}, {"world", DeformSpace::world}},
                                   DeformSpace::mesh);
-  s.weights = choice<LaplacianWeights>(
-      j, "weights", {{"mean_value", LaplacianWeights::mean_value}, {"cotangent", LaplacianWeights::cotangent}},
-      LaplacianWeights::mean_value);
+  if (!arap)
+    s.weights = choice<LaplacianWeights>(
+        j, "weights", {{"mean_value", LaplacianWeights::mean_value}, {"cotangent", LaplacianWeights::cotangent}},
+        LaplacianWeights::mean_value);
   s.free_parts = choice<FreeParts>(j, "free_parts", {{"nearest", FreeParts::nearest}, {"keep", FreeParts::keep}},
                                    FreeParts::nearest);
   s.basis = choice<SplineBasis>(j, "basis",
@@ -489,7 +531,8 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
   mesh::Mesh shape;
   shape.positions = rest_;
   shape.faces = target.faces;
-  const std::vector<int> part = parts_of(shape, spec.weights);
+  const LaplacianWeights weights = spec.method == DeformMethod::arap ? spec.arap.weights : spec.weights;
+  const std::vector<int> part = parts_of(shape, weights);
   std::vector<char> handled(part.size(), 0);
   for (const auto& h : handles_)
     for (const int v : h) handled[static_cast<std::size_t>(part[static_cast<std::size_t>(v)])] = 1;
@@ -529,7 +572,9 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
                                                    cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()));
   HarmonicOptions harmonic;
   harmonic.weights = spec.weights;
-  if (spec.method == DeformMethod::spline) {
+  if (spec.method == DeformMethod::arap) {
+    bind_arap(spec, shape, bound_handles, options);
+  } else if (spec.method == DeformMethod::spline) {
     SplineOptions spline;
     spline.harmonic = harmonic;
     spline.basis = spec.basis;
@@ -538,6 +583,19 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
   } else {
     blend_.emplace(bind_harmonic_handles(shape, bound_handles, rest_keys, harmonic, options.blend));
   }
+}
+
+void BoundDeformer::bind_arap(const DeformSpec& spec, const mesh::Mesh& shape,
+                              const std::vector<std::vector<int>>& handles, const SpecBindOptions& options) {
+  for (std::size_t h = 0; h < handles.size(); ++h)
+    for (const int v : handles[h]) {
+      arap_handles_.push_back(v);
+      arap_key_.push_back(static_cast<int>(h));
+    }
+  arap_rest_ = shape.positions(arap_handles_, Eigen::all).cast<double>();
+  ArapOptions arap = spec.arap;
+  arap.threads = options.blend.threads;
+  arap_.emplace(arap_precompute(shape, arap_handles_, arap));
 }
 
 void BoundDeformer::bind_ffd(const DeformSpec& spec, const SpecBindOptions& options) {
@@ -596,17 +654,43 @@ void BoundDeformer::apply_ffd(std::span<const cga::Versor<double>> keys, mesh::R
   ffd_->deform_points(points, out);
 }
 
-void BoundDeformer::apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const {
+void BoundDeformer::apply_arap(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out,
+                               ArapReport* report) const {
+  if (keys.size() != keys_.size())
+    throw InvalidInputError("arap: " + std::to_string(keys.size()) + " keys given, bound to " +
+                            std::to_string(keys_.size()));
+  (void)similarity_logs(keys);  // each key a similarity, as the blend requires
+  std::vector<Eigen::Matrix<double, 3, 4>> maps;
+  for (const auto& k : keys) maps.push_back(cga::PointMap<double>(k).affine_matrix());
+  Eigen::MatrixXd targets(arap_rest_.rows(), 3);
+  for (Eigen::Index i = 0; i < targets.rows(); ++i) {
+    const Eigen::Matrix<double, 3, 4>& m = maps[static_cast<std::size_t>(arap_key_[static_cast<std::size_t>(i)])];
+    targets.row(i) = (m.leftCols<3>() * arap_rest_.row(i).transpose() + m.col(3)).transpose();
+  }
+  Eigen::MatrixXd positions;
+  const ArapReport r = arap_solve(*arap_, targets, positions);
+  if (report != nullptr) *report = r;
+  out = positions.cast<float>();
+}
+
+void BoundDeformer::apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out,
+                          ArapReport* report) const {
   if (ffd_) {
     apply_ffd(keys, out);
     return;
   }
+  const auto deform = [&](mesh::RowMatrixXf<3>& positions) {
+    if (arap_)
+      apply_arap(keys, positions, report);
+    else
+      blend_->deform(keys, positions);
+  };
   if (blended_.empty()) {
-    blend_->deform(keys, out);
+    deform(out);
     return;
   }
   mesh::RowMatrixXf<3> part;
-  blend_->deform(keys, part);
+  deform(part);
   out = rest_;
   for (std::size_t v = 0; v < blended_.size(); ++v) out.row(blended_[v]) = part.row(static_cast<Eigen::Index>(v));
   // The rest keys are identities, so a handle's motor is its key applied to the rest shape.

@@ -4,6 +4,8 @@
 #include <fstream>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -91,10 +93,21 @@ TEST(CliDeform, BadSpecsNameTheField) {
   EXPECT_NE(directory.err.find("is a directory"), std::string::npos) << directory;
 }
 
+/// Each spec text exits 2 naming its field.
+void expect_bad_specs(const TempDir& dir, const std::string& model,
+                      std::span<const std::pair<std::string, const char*>> cases) {
+  const std::string out = (dir.path() / "out.obj").string();
+  for (const auto& [text, field] : cases) {
+    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
+    EXPECT_EQ(r.code, 2) << text << "\n" << r;
+    EXPECT_NE(r.err.find(field), std::string::npos) << r;
+  }
+}
+
 // Every ffd field: a bad value exits 2 naming it.
 TEST(CliDeform, FfdBadSpecsNameTheField) {
   TempDir dir;
-  const std::string model = cgamesh_test::asset("spot.obj").string(), out = (dir.path() / "out.obj").string();
+  const std::string model = cgamesh_test::asset("spot.obj").string();
   const std::string tail = R"("handles": [[[0, 0, 0]]], "keys": [{}]})";
   const std::pair<std::string, const char*> cases[] = {
       {R"({"method": "ffd", "variant": "soft", )" + tail, "spec.variant"},
@@ -118,11 +131,67 @@ TEST(CliDeform, FfdBadSpecsNameTheField) {
       {R"({"method": "ffd", "degree": 2, )" + tail, "spec.degree"},
       {R"({"method": "spline", "variant": "motor", "handles": [[0], [1]], "keys": [{}, {}]})", "spec.variant"},
   };
-  for (const auto& [text, field] : cases) {
-    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
-    EXPECT_EQ(r.code, 2) << text << "\n" << r;
-    EXPECT_NE(r.err.find(field), std::string::npos) << r;
+  expect_bad_specs(dir, model, cases);
+}
+
+// Every arap field: a bad value exits 2 naming it.
+TEST(CliDeform, ArapBadSpecsNameTheField) {
+  TempDir dir;
+  const std::string model = cgamesh_test::asset("spot.obj").string();
+  const std::string tail = R"("handles": [[0], [1]], "keys": [{}, {}]})";
+  const std::pair<std::string, const char*> cases[] = {
+      {R"({"method": "arap", "weights": "mean_value", )" + tail, "spec.weights"},
+      {R"({"method": "arap", "weights": 1, )" + tail, "spec.weights"},
+      {R"({"method": "arap", "energy": "rims", )" + tail, "spec.energy"},
+      {R"({"method": "arap", "local_step": "qr", )" + tail, "spec.local_step"},
+      {R"({"method": "arap", "iterations": 0, )" + tail, "spec.iterations"},
+      {R"({"method": "arap", "iterations": 2.5, )" + tail, "spec.iterations"},
+      {R"({"method": "arap", "iterations": 10000000000, )" + tail, "spec.iterations"},
+      {R"({"method": "arap", "tolerance": -0.1, )" + tail, "spec.tolerance"},
+      {R"({"method": "arap", "tolerance": "small", )" + tail, "spec.tolerance"},
+      {R"({"method": "arap", "degree": 2, )" + tail, "spec.degree"},
+      {R"({"method": "arap", "handles": [[0], [99999999]], "keys": [{}, {}]})", "spec.handles[1]"},
+      {R"({"method": "arap", "handles": [[0], [1]], "keys": [{}]})", "spec.keys"},
+      {R"({"method": "harmonic", "iterations": 3, )" + tail, "spec.iterations"},
+      {R"({"method": "spline", "energy": "spokes", )" + tail, "spec.energy"},
+  };
+  expect_bad_specs(dir, model, cases);
+}
+
+// The example ARAP bends run and move the mesh; --json reports the energy per iteration, never
+// increasing; identity keys keep the mesh with every option set.
+TEST(CliDeform, ArapExampleSpecsRunAndReportTheEnergy) {
+  TempDir dir;
+  for (const auto& [asset, name] :
+       {std::pair{"cow.obj", "arap_cow_bend.json"}, std::pair{"arm_16k.ply", "arap_arm_bend.json"}}) {
+    const fs::path out = dir.path() / "out.obj";
+    const Result r = run_cli(
+        {"deform", cgamesh_test::asset(asset).string(), "--spec", spec(name).string(), "-o", out.string(), "--json"},
+        dir.path());
+    ASSERT_EQ(r.code, 0) << r;
+    const auto summary = nlohmann::json::parse(r.out);
+    EXPECT_EQ(summary["method"], "arap");
+    const auto energies = summary["arap"]["energies"].get<std::vector<double>>();
+    EXPECT_EQ(summary["arap"]["iterations"], 10);
+    ASSERT_EQ(energies.size(), 11u);
+    for (std::size_t k = 1; k < energies.size(); ++k) EXPECT_LE(energies[k], energies[k - 1] * (1 + 1e-12)) << name;
+    const Points p = read_obj_vertices(out);
+    const Points rest = cgamesh::io::load_model(cgamesh_test::asset(asset)).meshes.at(0).positions.cast<double>();
+    ASSERT_EQ(p.rows(), rest.rows());
+    EXPECT_TRUE(p.allFinite());
+    EXPECT_GT((p - rest).cwiseAbs().maxCoeff(), 0.1) << name;  // it moved
   }
+  // Identity keys keep the mesh (the rest shape has zero energy).
+  const fs::path out = dir.path() / "same.obj";
+  const std::string model = cgamesh_test::asset("spot.obj").string();
+  const fs::path s = write_spec(dir, R"({"method": "arap", "handles": [[0, 1, 2], [500, 501]], "keys": [{}, {}],
+                                         "local_step": "svd", "energy": "spokes", "weights": "clamped_cotangent",
+                                         "iterations": 3, "tolerance": 0.01})");
+  ASSERT_EQ(run_cli({"deform", model, "--spec", s.string(), "-o", out.string()}, dir.path()).code, 0);
+  const Points a = read_obj_vertices(out);
+  const Points b = cgamesh::io::load_model(model).meshes.at(0).positions.cast<double>();
+  ASSERT_EQ(a.rows(), b.rows());
+  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5);
 }
 
 // Both variants of the example twist run to a .glb with the rig; identity keys keep the mesh.

@@ -88,6 +88,24 @@ TEST(DeformSpecParse, ErrorsNameTheField) {
     EXPECT_NE(message_of(text).find(field), std::string::npos) << message_of(text);
 }
 
+TEST(DeformSpecParse, ReadsTheArapFields) {
+  const DeformSpec s = parse_spec(R"({"method": "arap", "handles": [[0], [1]], "keys": [{}, {}],
+      "weights": "clamped_cotangent", "energy": "spokes", "local_step": "svd", "iterations": 25, "tolerance": 0.001})",
+                                  "inline");
+  EXPECT_EQ(s.method, deform::DeformMethod::arap);
+  EXPECT_EQ(s.arap.weights, deform::LaplacianWeights::clamped_cotangent);
+  EXPECT_EQ(s.arap.energy, deform::ArapEnergy::spokes);
+  EXPECT_EQ(s.arap.local_step, deform::ArapLocalStep::svd);
+  EXPECT_EQ(s.arap.iterations, 25);
+  EXPECT_EQ(s.arap.tolerance, 0.001);
+  const DeformSpec d = parse_spec(R"({"method": "arap", "handles": [[0]], "keys": [{}]})", "inline");
+  EXPECT_EQ(d.arap.weights, deform::LaplacianWeights::cotangent);  // not the harmonic default
+  EXPECT_EQ(d.arap.energy, deform::ArapEnergy::spokes_and_rims);
+  EXPECT_EQ(d.arap.local_step, deform::ArapLocalStep::rotor);
+  EXPECT_EQ(d.arap.iterations, 10);
+  EXPECT_EQ(d.arap.tolerance, 0);
+}
+
 TEST(DeformSpecParse, ReadsEveryField) {
   const DeformSpec s = parse_spec(R"({"method": "spline", "mesh": 1, "space": "world", "weights": "cotangent",
       "handles": [[3, 4], {"sphere": [1, 2, 3, 0.5]}], "basis": "linear", "free_parts": "keep",

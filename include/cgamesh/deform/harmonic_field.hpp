@@ -14,6 +14,7 @@
 // Vertices at exactly the same rest position (seams split for normals or UVs) are one unknown:
 // the field cannot tear along a seam.
 
+#include <array>
 #include <memory>
 #include <span>
 #include <vector>
@@ -26,7 +27,11 @@
 
 namespace cgamesh::deform {
 
-enum class LaplacianWeights { mean_value, cotangent };
+enum class LaplacianWeights {
+  mean_value,
+  cotangent,          ///< ½(cot α + cot β), negative next to obtuse angles
+  clamped_cotangent,  ///< each ½ cot clamped at 0
+};
 
 struct HarmonicOptions {
   LaplacianWeights weights = LaplacianWeights::mean_value;
@@ -43,14 +48,29 @@ struct HarmonicOptions {
 [[nodiscard]] Eigen::SparseMatrix<double> laplacian_edge_weights(const mesh::Mesh& mesh, std::span<const int> node,
                                                                  int node_count, LaplacianWeights weights);
 
+/// A triangle that carries Laplacian weights: its corners as welded nodes, and ½ cot of the
+/// angle at each corner, the weight of the opposite edge (corners c+1, c+2).
+struct CotangentTriangle {
+  std::array<int, 3> node;
+  std::array<double, 3> half_cot;
+};
+/// The triangles of `mesh` that laplacian_edge_weights() weighs (three distinct nodes, non-zero
+/// area), in face order: summing half_cot over them gives its cotangent weights.
+/// @param[in] mesh     #V rest positions and #F faces
+/// @param[in] node     #V node of each vertex, as laplacian_edge_weights() takes it
+/// @param[in] clamped  each ½ cot clamped at 0
+/// @throws InvalidInputError for a face vertex outside [0, #V).
+[[nodiscard]] std::vector<CotangentTriangle> cotangent_triangles(const mesh::Mesh& mesh, std::span<const int> node,
+                                                                 bool clamped);
+
 /// The factorised system of one mesh and one constrained vertex set (libigl's
 /// min_quad_with_fixed_data): the free rows solve L_ff x_f = W_fc x_c. Move-only.
 struct HarmonicPrecomputation {
   using SparseMatrix = Eigen::SparseMatrix<double>;
-  std::vector<int> node_of_vertex;  ///< #V welded node of each vertex
-  std::vector<int> slot_of_node;    ///< #N free index (≥ 0), or −1 − the constrained node's index
-  std::vector<int> constrained;     ///< #C constrained vertex indices as given
-  int constrained_nodes = 0;        ///< distinct constrained nodes
+  std::vector<int> node_of_vertex;   ///< #V welded node of each vertex
+  std::vector<int> slot_of_node;     ///< #N free index (≥ 0), or −1 − the constrained node's index
+  std::vector<int> constrained;      ///< #C constrained vertex indices as given
+  int constrained_nodes = 0;         ///< distinct constrained nodes
   SparseMatrix free_by_constrained;  ///< W_fc (free × constrained nodes)
   /// L_ff factorised; null when every node is constrained. (Eigen's solvers cannot be moved.)
   std::unique_ptr<Eigen::SimplicialLDLT<SparseMatrix>> ldlt;
@@ -72,6 +92,15 @@ struct HarmonicPrecomputation {
 ///         SolverError when the factorisation fails (cotangent weights on a bad mesh).
 [[nodiscard]] HarmonicPrecomputation harmonic_precompute(const mesh::Mesh& mesh, std::span<const int> constrained,
                                                          const HarmonicOptions& options = {});
+
+/// The boundary values per constrained node (the order of the columns of free_by_constrained).
+/// @param[in] pre       from harmonic_precompute
+/// @param[in] boundary  #C x k values, row c for constrained[c]
+/// @return (distinct constrained nodes) x k
+/// @throws InvalidInputError when boundary is not #C x k, has a non-finite value, or gives two
+///         different values to one welded vertex.
+[[nodiscard]] Eigen::MatrixXd constrained_node_values(const HarmonicPrecomputation& pre,
+                                                      const Eigen::MatrixXd& boundary);
 
 /// Solves for k fields at once.
 /// @param[in] pre       from harmonic_precompute

@@ -21,6 +21,7 @@
 
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/cga/multivector.hpp"
+#include "cgamesh/deform/arap.hpp"
 #include "cgamesh/deform/fabrik.hpp"
 #include "cgamesh/deform/ffd.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
@@ -34,9 +35,10 @@ enum class DeformMethod {
   spline,    ///< spline-aligned (III): two handles, the keys along the harmonic parameter
   harmonic,  ///< harmonic coordinates (IV): one key per handle
   ffd,       ///< free-form deformation (V): handles select lattice control points, one key each
+  arap,      ///< as-rigid-as-possible (VII): one key per handle moves its vertices, the rest follows
 };
 
-/// The method's name in a spec ("spline", "harmonic", "ffd").
+/// The method's name in a spec ("spline", "harmonic", "ffd", "arap").
 [[nodiscard]] const char* method_name(DeformMethod method) noexcept;
 
 /// How an FFD spec moves its lattice (section V).
@@ -109,6 +111,9 @@ struct DeformSpec {
   FreeParts free_parts = FreeParts::nearest;
   LatticeSpec lattice;                     ///< ffd only
   FfdVariant variant = FfdVariant::motor;  ///< ffd only
+  /// arap only: energy, weights (cotangent unless the spec says clamped_cotangent), local step,
+  /// iterations and tolerance; threads come from SpecBindOptions.
+  ArapOptions arap;
 };
 
 /// Parses a spec from JSON text.
@@ -154,6 +159,7 @@ class BoundDeformer {
   ///         "spec.ik.joints: ..." for a count the method or basis cannot take (harmonic: one key
   ///         per handle; spline: 2 handles, keys as spline_weights() takes them); "spec.ik: ..." when FABRIK refuses
   ///         the chain; "spec.space: ..." for world space on a mesh whose bind skinning is singular at a vertex;
+  ///         arap: "spec.handles[h]: ..." as harmonic, SolverError when the factorisation fails;
   ///         ffd: "spec.handles[h]: ..." for a control point outside the lattice or a selection of
   ///         none, "spec.lattice.margin: ..." for a mesh flat along an axis without a margin;
   ///         SolverError as harmonic_precompute().
@@ -183,10 +189,14 @@ class BoundDeformer {
   /// handle's key (FreeParts::nearest) or not at all (keep). ffd: each control point moved by
   /// the keys of the handles that select it, composed in handle order (identity when none), then
   /// eq. 6 (classic) or eqs. 7-8 (motor).
-  /// @param[in]  keys  #n key versors (TRS similarities), in the order of keys()
-  /// @param[out] out   #V×3 positions in space() (resized)
-  /// @throws InvalidInputError when keys has the wrong size or a key is not a similarity.
-  void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const;
+  /// arap: each handle's vertices at its key applied to their rest positions, the others by
+  /// arap_solve() from the rest shape (eqs. 9-12).
+  /// @param[in]  keys    #n key versors (TRS similarities), in the order of keys()
+  /// @param[out] out     #V×3 positions in space() (resized)
+  /// @param[out] report  arap: the energy per iteration (untouched for the other methods); may be null
+  /// @throws InvalidInputError when keys has the wrong size or a key is not a similarity;
+  ///         SolverError when the ARAP solve fails.
+  void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport* report = nullptr) const;
   /// The same, returned.
   [[nodiscard]] mesh::RowMatrixXf<3> apply(std::span<const cga::Versor<double>> keys) const;
 
@@ -208,6 +218,9 @@ class BoundDeformer {
 
  private:
   void bind_ffd(const DeformSpec& spec, const SpecBindOptions& options);
+  void bind_arap(const DeformSpec& spec, const mesh::Mesh& shape, const std::vector<std::vector<int>>& handles,
+                 const SpecBindOptions& options);
+  void apply_arap(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport* report) const;
   void apply_ffd(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const;
 
   int mesh_ = 0;
@@ -222,6 +235,11 @@ class BoundDeformer {
   /// Mesh vertex of each vertex the blend deforms; empty when it deforms them all.
   std::vector<int> blended_;
   std::optional<MotorBlend> blend_;
+  std::optional<ArapData> arap_;
+  /// arap: every handle vertex of the deformed (sub-)mesh, handle after handle, and its key.
+  std::vector<int> arap_handles_, arap_key_;
+  /// arap: rest positions of arap_handles_ (in space()).
+  Eigen::MatrixXd arap_rest_;
   std::optional<FreeFormDeformation> ffd_;
   FfdVariant variant_ = FfdVariant::motor;
   std::vector<std::vector<int>> control_handles_;
