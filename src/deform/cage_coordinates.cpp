@@ -216,43 +216,55 @@ Eigen::Matrix<double, 1, kColumns> interpolate(const Grid& g, const Block& x, co
 
 /// Conjugate gradients on the 7-point Laplacian of g's unknowns, every column its own system,
 /// in lockstep: 6 xᵤ − Σ neighbours = 0 with the boundary values moved to the right-hand side.
+/// Each pass over the unknowns also accumulates the dot products it feeds.
 /// @param[in,out] x  #unknowns × kColumns: the initial guess, then the solution
+/// @throws SolverError when a column does not converge.
 void solve(const Grid& g, const Block& fixed, double tolerance, Block& x) {
   const Eigen::Index n = static_cast<Eigen::Index>(g.unknown_node.size());
   using Row = Eigen::Array<double, 1, kColumns>;
-  auto apply = [&](const Block& v, Block& out, bool boundary) {
-    for (Eigen::Index u = 0; u < n; ++u) {
-      Row sum = boundary ? Row::Zero() : Row(6 * v.row(u).array());
-      for (const int o : g.neighbor[static_cast<std::size_t>(u)]) {
-        if (o >= 0 && !boundary) sum -= v.row(o).array();
-        if (o < 0 && boundary) sum += fixed.row(-2 - o).array();
-      }
-      out.row(u) = sum.matrix();
+  Block r(n, kColumns), p(n, kColumns), ap(n, kColumns);
+  Row bb = Row::Zero(), rr = Row::Zero();
+  for (Eigen::Index u = 0; u < n; ++u) {
+    Row b = Row::Zero(), ax = 6 * x.row(u).array();
+    for (const int o : g.neighbor[static_cast<std::size_t>(u)]) {
+      if (o >= 0)
+        ax -= x.row(o).array();
+      else
+        b += fixed.row(-2 - o).array();
     }
-  };
-  Block b(n, kColumns), r(n, kColumns), p, ap(n, kColumns);
-  apply(x, b, true);
-  apply(x, ap, false);
-  r = b - ap;
-  p = r;
+    const Row residual = b - ax;
+    r.row(u) = residual.matrix();
+    bb += b * b;
+    rr += residual * residual;
+  }
   // A column without boundary values at this level has the solution 0: converged at any residual
   // of its guess below the floor.
-  const Row bb = b.colwise().squaredNorm().array().max(1e-30);
-  Row rr = r.colwise().squaredNorm().array();
-  // Discrete-harmonic error decays like cos(π h)ᵏ for plain iterations; CG needs O(1/h): a
-  // generous cap that only a broken system reaches.
+  bb = bb.max(1e-30);
+  p = r;
+  // CG on the grid Laplacian needs O(1/h) iterations: a generous cap that only a broken system
+  // reaches.
   const int max_iterations = 20 * (std::max({g.n[0], g.n[1], g.n[2]}) + 10);
   for (int it = 0; it < max_iterations; ++it) {
     if ((rr <= tolerance * tolerance * bb).all()) return;
-    apply(p, ap, false);
-    const Row pap = (p.array() * ap.array()).colwise().sum();
+    Row pap = Row::Zero();
+    for (Eigen::Index u = 0; u < n; ++u) {
+      Row a = 6 * p.row(u).array();
+      for (const int o : g.neighbor[static_cast<std::size_t>(u)])
+        if (o >= 0) a -= p.row(o).array();
+      ap.row(u) = a.matrix();
+      pap += p.row(u).array() * a;
+    }
     const Row alpha = (pap > 0).select(rr / pap, 0.0);
-    x.array() += p.array().rowwise() * alpha;
-    r.array() -= ap.array().rowwise() * alpha;
-    const Row next = r.colwise().squaredNorm().array();
+    Row next = Row::Zero();
+    for (Eigen::Index u = 0; u < n; ++u) {
+      x.row(u).array() += alpha * p.row(u).array();
+      const Row residual = r.row(u).array() - alpha * ap.row(u).array();
+      r.row(u) = residual.matrix();
+      next += residual * residual;
+    }
     const Row beta = (rr > 0).select(next / rr, 0.0);
     rr = next;
-    p.array() = r.array() + p.array().rowwise() * beta;
+    for (Eigen::Index u = 0; u < n; ++u) p.row(u).array() = r.row(u).array() + beta * p.row(u).array();
   }
   throw SolverError("cage: the grid Laplace solves did not converge in " + std::to_string(max_iterations) +
                     " iterations");
