@@ -16,6 +16,7 @@
 #include <string>
 #include <thread>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
 #include "cgamesh/cga/exp_log.hpp"
@@ -34,7 +35,7 @@ using Vec3 = Eigen::Vector3d;
 constexpr int kColumns = 8;
 using Block = Eigen::Matrix<double, Eigen::Dynamic, kColumns, Eigen::RowMajor>;
 
-/// Coarsest grid of the warm-start cascade: below, the trilinear guess is no better than zero.
+/// Resolution of the coarsest multigrid level, solved exactly (≤ 13³ nodes).
 constexpr int kCoarsestResolution = 8;
 
 /// Boundary nodes lie within √3 cells of the cage (a cell corner of an inside point), with room
@@ -192,9 +193,8 @@ Block boundary_values(const Grid& g, const Cage& cage, const std::array<int, kCo
   return out;
 }
 
-/// The trilinear interpolation at p of the grid values (unknowns x, boundary values `fixed`).
-/// @throws SolverError when a cell corner has no value (p not inside the cage).
-Eigen::Matrix<double, 1, kColumns> interpolate(const Grid& g, const Block& x, const Block& fixed, const Vec3& p) {
+/// The 8 corners of the cell of g holding p (clamped to the grid) and their trilinear weights.
+void cell_corners(const Grid& g, const Vec3& p, std::array<Eigen::Index, 8>& node, std::array<double, 8>& weight) {
   const Vec3 t = (p - g.origin) / g.h;
   std::array<int, 3> cell{};
   Vec3 s;
@@ -202,71 +202,176 @@ Eigen::Matrix<double, 1, kColumns> interpolate(const Grid& g, const Block& x, co
     cell[static_cast<std::size_t>(a)] = std::clamp(static_cast<int>(std::floor(t[a])), 0, g.n[a] - 2);
     s[a] = std::clamp(t[a] - cell[static_cast<std::size_t>(a)], 0.0, 1.0);
   }
-  Eigen::Matrix<double, 1, kColumns> sum = Eigen::Matrix<double, 1, kColumns>::Zero();
   for (int corner = 0; corner < 8; ++corner) {
     const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
-    const double w = (di ? s[0] : 1 - s[0]) * (dj ? s[1] : 1 - s[1]) * (dk ? s[2] : 1 - s[2]);
-    if (w == 0) continue;
-    const int slot = g.slot[static_cast<std::size_t>(g.node(cell[0] + di, cell[1] + dj, cell[2] + dk))];
+    weight[static_cast<std::size_t>(corner)] = (di ? s[0] : 1 - s[0]) * (dj ? s[1] : 1 - s[1]) * (dk ? s[2] : 1 - s[2]);
+    node[static_cast<std::size_t>(corner)] = g.node(cell[0] + di, cell[1] + dj, cell[2] + dk);
+  }
+}
+
+/// The trilinear interpolation at p of the grid values (unknowns x, boundary values `fixed`).
+/// @throws SolverError when a cell corner has no value (p not inside the cage).
+Eigen::Matrix<double, 1, kColumns> interpolate(const Grid& g, const Block& x, const Block& fixed, const Vec3& p) {
+  std::array<Eigen::Index, 8> node{};
+  std::array<double, 8> weight{};
+  cell_corners(g, p, node, weight);
+  Eigen::Matrix<double, 1, kColumns> sum = Eigen::Matrix<double, 1, kColumns>::Zero();
+  for (std::size_t c = 0; c < 8; ++c) {
+    if (weight[c] == 0) continue;
+    const int slot = g.slot[static_cast<std::size_t>(node[c])];
     if (slot == -1) throw SolverError("cage: a point to interpolate is outside the cage's grid");
-    sum += w * (slot >= 0 ? x.row(slot) : fixed.row(-2 - slot));
+    sum += weight[c] * (slot >= 0 ? x.row(slot) : fixed.row(-2 - slot));
   }
   return sum;
 }
 
-/// Conjugate gradients on the 7-point Laplacian of g's unknowns, every column its own system,
-/// in lockstep: 6 xᵤ − Σ neighbours = 0 with the boundary values moved to the right-hand side.
-/// Each pass over the unknowns also accumulates the dot products it feeds.
-/// @param[in,out] x  #unknowns × kColumns: the initial guess, then the solution
+/// A multigrid V-cycle over the grids of halving resolutions (coarsest first) as the
+/// preconditioner of conjugate gradients: Richardson smoothing (the stencil's diagonal is the
+/// constant 6, so Jacobi is a polynomial in the Laplacian), trilinear prolongation P, restriction
+/// its transpose, the coarsest grid solved exactly. Same smoothing before and after and R ∝ Pᵀ
+/// keep the preconditioner symmetric, as CG needs.
+class Multigrid {
+ public:
+  explicit Multigrid(const std::vector<Grid>& grids) : grids_(grids), prolongation_(grids.size()) {
+    for (std::size_t level = 1; level < grids.size(); ++level) {
+      const Grid &coarse = grids[level - 1], &fine = grids[level];
+      Prolongation& p = prolongation_[level];
+      p.offset.push_back(0);
+      std::array<Eigen::Index, 8> node{};
+      std::array<double, 8> weight{};
+      for (const int u : fine.unknown_node) {
+        cell_corners(coarse, fine.position(u), node, weight);
+        for (std::size_t c = 0; c < 8; ++c) {
+          const int slot = coarse.slot[static_cast<std::size_t>(node[c])];
+          // The correction is 0 on the boundary: only coarse unknowns contribute.
+          if (weight[c] > 0 && slot >= 0) {
+            p.index.push_back(slot);
+            p.weight.push_back(weight[c]);
+          }
+        }
+        p.offset.push_back(static_cast<int>(p.index.size()));
+      }
+      p.scale = std::pow(coarse.h / fine.h, 2) / 8;
+    }
+    const Grid& g = grids.front();
+    const Eigen::Index n = static_cast<Eigen::Index>(g.unknown_node.size());
+    Eigen::MatrixXd a = 6 * Eigen::MatrixXd::Identity(n, n);
+    for (Eigen::Index u = 0; u < n; ++u)
+      for (const int o : g.neighbor[static_cast<std::size_t>(u)])
+        if (o >= 0) a(u, o) = -1;
+    coarsest_.compute(a);
+  }
+
+  /// Per level, the buffers of one thread's cycles (allocated once: in a cycle, fresh pages would
+  /// cost more than the arithmetic).
+  struct Workspace {
+    std::vector<Block> r, e, ae;
+  };
+  [[nodiscard]] Workspace workspace() const {
+    Workspace w;
+    for (const Grid& g : grids_) {
+      const Eigen::Index n = static_cast<Eigen::Index>(g.unknown_node.size());
+      w.r.emplace_back(n, kColumns);
+      w.e.emplace_back(n, kColumns);
+      w.ae.emplace_back(n, kColumns);
+    }
+    return w;
+  }
+
+  /// z = M r on the finest grid.
+  void apply(const Block& r, Block& z, Workspace& w) const { cycle(grids_.size() - 1, r, z, w); }
+
+  /// out = A v on the unknowns of `level` (boundary values 0); out is sized.
+  void laplacian(std::size_t level, const Block& v, Block& out) const {
+    const Grid& g = grids_[level];
+    for (Eigen::Index u = 0; u < v.rows(); ++u) {
+      Eigen::Array<double, 1, kColumns> a = 6 * v.row(u).array();
+      for (const int o : g.neighbor[static_cast<std::size_t>(u)])
+        if (o >= 0) a -= v.row(o).array();
+      out.row(u) = a.matrix();
+    }
+  }
+
+ private:
+  struct Prolongation {
+    std::vector<int> offset, index;  ///< per fine unknown, its coarse unknowns [offset[u], offset[u + 1])
+    std::vector<double> weight;
+    double scale = 0;  ///< restriction = scale Pᵀ: the average, times (H / h)² for the coarse stencil
+  };
+
+  /// e ≈ A⁻¹ r on `level`.
+  void cycle(std::size_t level, const Block& r, Block& e, Workspace& w) const {
+    if (level == 0) {
+      e = coarsest_.solve(r);
+      return;
+    }
+    // ω = 6/7: the Richardson weight that damps the high frequencies of the 7-point stencil best.
+    constexpr double kStep = 1.0 / 7;
+    Block& ae = w.ae[level];
+    e = kStep * r;
+    laplacian(level, e, ae);
+    ae = r - ae;  // the residual
+    const Prolongation& p = prolongation_[level];
+    Block &coarse_r = w.r[level - 1], &coarse_e = w.e[level - 1];
+    coarse_r.setZero();
+    for (Eigen::Index u = 0; u < r.rows(); ++u)
+      for (int k = p.offset[static_cast<std::size_t>(u)]; k < p.offset[static_cast<std::size_t>(u) + 1]; ++k)
+        coarse_r.row(p.index[static_cast<std::size_t>(k)]) +=
+            (p.scale * p.weight[static_cast<std::size_t>(k)]) * ae.row(u);
+    cycle(level - 1, coarse_r, coarse_e, w);
+    for (Eigen::Index u = 0; u < r.rows(); ++u)
+      for (int k = p.offset[static_cast<std::size_t>(u)]; k < p.offset[static_cast<std::size_t>(u) + 1]; ++k)
+        e.row(u) += p.weight[static_cast<std::size_t>(k)] * coarse_e.row(p.index[static_cast<std::size_t>(k)]);
+    laplacian(level, e, ae);
+    e += kStep * (r - ae);
+  }
+
+  const std::vector<Grid>& grids_;
+  std::vector<Prolongation> prolongation_;
+  Eigen::LLT<Eigen::MatrixXd> coarsest_;
+};
+
+/// Conjugate gradients on the 7-point Laplacian of the finest grid's unknowns, preconditioned by
+/// the multigrid V-cycle, every column its own system in lockstep: 6 xᵤ − Σ neighbours = 0 with
+/// the boundary values moved to the right-hand side.
+/// @param[out] x  #unknowns × kColumns solution
 /// @throws SolverError when a column does not converge.
-void solve(const Grid& g, const Block& fixed, double tolerance, Block& x) {
+void solve(const Multigrid& mg, const Grid& g, std::size_t level, const Block& fixed, double tolerance, Block& x) {
   const Eigen::Index n = static_cast<Eigen::Index>(g.unknown_node.size());
   using Row = Eigen::Array<double, 1, kColumns>;
-  Block r(n, kColumns), p(n, kColumns), ap(n, kColumns);
-  Row bb = Row::Zero(), rr = Row::Zero();
+  Block r(n, kColumns), z(n, kColumns), p(n, kColumns), ap(n, kColumns);
+  Multigrid::Workspace work = mg.workspace();
   for (Eigen::Index u = 0; u < n; ++u) {
-    Row b = Row::Zero(), ax = 6 * x.row(u).array();
-    for (const int o : g.neighbor[static_cast<std::size_t>(u)]) {
-      if (o >= 0)
-        ax -= x.row(o).array();
-      else
-        b += fixed.row(-2 - o).array();
-    }
-    const Row residual = b - ax;
-    r.row(u) = residual.matrix();
-    bb += b * b;
-    rr += residual * residual;
+    Row b = Row::Zero();
+    for (const int o : g.neighbor[static_cast<std::size_t>(u)])
+      if (o < 0) b += fixed.row(-2 - o).array();
+    r.row(u) = b.matrix();
   }
-  // A column without boundary values at this level has the solution 0: converged at any residual
-  // of its guess below the floor.
-  bb = bb.max(1e-30);
-  p = r;
-  // CG on the grid Laplacian needs O(1/h) iterations: a generous cap that only a broken system
+  x = Block::Zero(n, kColumns);
+  // A column without boundary values on this grid has the solution 0.
+  const Row bb = r.colwise().squaredNorm().array().max(1e-30);
+  Row rr = r.colwise().squaredNorm().array();
+  mg.apply(r, z, work);
+  p = z;
+  Row rz = (r.array() * z.array()).colwise().sum();
+  // A V-cycle preconditioner needs tens of iterations; a generous cap that only a broken system
   // reaches.
-  const int max_iterations = 20 * (std::max({g.n[0], g.n[1], g.n[2]}) + 10);
-  for (int it = 0; it < max_iterations; ++it) {
+  constexpr int kMaxIterations = 500;
+  for (int it = 0; it < kMaxIterations; ++it) {
     if ((rr <= tolerance * tolerance * bb).all()) return;
-    Row pap = Row::Zero();
-    for (Eigen::Index u = 0; u < n; ++u) {
-      Row a = 6 * p.row(u).array();
-      for (const int o : g.neighbor[static_cast<std::size_t>(u)])
-        if (o >= 0) a -= p.row(o).array();
-      ap.row(u) = a.matrix();
-      pap += p.row(u).array() * a;
-    }
-    const Row alpha = (pap > 0).select(rr / pap, 0.0);
-    Row next = Row::Zero();
-    for (Eigen::Index u = 0; u < n; ++u) {
-      x.row(u).array() += alpha * p.row(u).array();
-      const Row residual = r.row(u).array() - alpha * ap.row(u).array();
-      r.row(u) = residual.matrix();
-      next += residual * residual;
-    }
-    const Row beta = (rr > 0).select(next / rr, 0.0);
-    rr = next;
-    for (Eigen::Index u = 0; u < n; ++u) p.row(u).array() = r.row(u).array() + beta * p.row(u).array();
+    mg.laplacian(level, p, ap);
+    const Row pap = (p.array() * ap.array()).colwise().sum();
+    const Row alpha = (pap > 0).select(rz / pap, 0.0);
+    x.array() += p.array().rowwise() * alpha;
+    r.array() -= ap.array().rowwise() * alpha;
+    rr = r.colwise().squaredNorm().array();
+    mg.apply(r, z, work);
+    const Row next = (r.array() * z.array()).colwise().sum();
+    const Row beta = (rz > 0).select(next / rz, 0.0);
+    rz = next;
+    p.array() = z.array() + p.array().rowwise() * beta;
   }
-  throw SolverError("cage: the grid Laplace solves did not converge in " + std::to_string(max_iterations) +
+  throw SolverError("cage: the grid Laplace solves did not converge in " + std::to_string(kMaxIterations) +
                     " iterations");
 }
 
@@ -377,12 +482,13 @@ Eigen::MatrixXd cage_coordinates(const mesh::RowMatrixXf<3>& rest, const Cage& c
                               std::to_string(inside[static_cast<std::size_t>(i)]) + ")");
     }
 
-  // The cascade: each grid warm-started from the one of half its resolution.
+  // The multigrid hierarchy: grids of halving resolution down to kCoarsestResolution.
   std::vector<int> resolutions = {options.resolution};
   while (resolutions.back() / 2 >= kCoarsestResolution) resolutions.push_back(resolutions.back() / 2);
   std::reverse(resolutions.begin(), resolutions.end());
   std::vector<Grid> grids;
   for (const int r : resolutions) grids.push_back(make_grid(cage, r, options.threads));
+  const Multigrid multigrid(grids);
 
   const Eigen::Index nc = cage.vertices.rows();
   const int blocks = static_cast<int>((nc + kColumns - 1) / kColumns);
@@ -398,19 +504,9 @@ Eigen::MatrixXd cage_coordinates(const mesh::RowMatrixXf<3>& rest, const Cage& c
           const Eigen::Index column = static_cast<Eigen::Index>(block) * kColumns + c;
           columns[static_cast<std::size_t>(c)] = column < nc ? static_cast<int>(column) : -1;
         }
-        Block x, fixed;
-        for (std::size_t level = 0; level < grids.size(); ++level) {
-          const Grid& g = grids[level];
-          const Eigen::Index unknowns = static_cast<Eigen::Index>(g.unknown_node.size());
-          Block guess = Block::Zero(unknowns, kColumns);
-          if (level > 0)
-            for (Eigen::Index u = 0; u < unknowns; ++u)
-              guess.row(u) =
-                  interpolate(grids[level - 1], x, fixed, g.position(g.unknown_node[static_cast<std::size_t>(u)]));
-          fixed = boundary_values(g, cage, columns);
-          solve(g, fixed, options.tolerance, guess);
-          x = std::move(guess);
-        }
+        const Block fixed = boundary_values(grids.back(), cage, columns);
+        Block x;
+        solve(multigrid, grids.back(), grids.size() - 1, fixed, options.tolerance, x);
         for (Eigen::Index i = 0; i < nv; ++i) {
           const auto values = interpolate(grids.back(), x, fixed, rest.row(i).transpose().cast<double>());
           for (int c = 0; c < kColumns; ++c)
