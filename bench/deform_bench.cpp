@@ -235,41 +235,6 @@ void BM_FfdBind(benchmark::State& state, deform::LatticeBasis basis) {
   state.counters["vertices"] = static_cast<double>(million_mesh().vertex_count());
 }
 
-/// The box [lo, hi] as a closed cage with outward faces, `cuts` segments per axis on its sides.
-deform::Cage box_cage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int cuts) {
-  std::map<std::array<int, 3>, int> index;
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<std::array<int, 3>> faces;
-  const auto vertex = [&](const std::array<int, 3>& q) {
-    const auto [it, added] = index.emplace(q, static_cast<int>(vertices.size()));
-    if (added) vertices.push_back(lo + (hi - lo).cwiseProduct(Eigen::Vector3d(q[0], q[1], q[2]) / cuts));
-    return it->second;
-  };
-  for (int a = 0; a < 3; ++a)
-    for (int side = 0; side < 2; ++side)
-      for (int i = 0; i < cuts; ++i)
-        for (int j = 0; j < cuts; ++j) {
-          std::array<int, 4> v{};
-          for (int k = 0; k < 4; ++k) {
-            std::array<int, 3> q{};
-            q[static_cast<std::size_t>(a)] = side * cuts;
-            q[static_cast<std::size_t>((a + 1) % 3)] = i + (k == 1 || k == 2);
-            q[static_cast<std::size_t>((a + 2) % 3)] = j + (k >= 2);
-            v[static_cast<std::size_t>(k)] = vertex(q);
-          }
-          if (side == 0) std::swap(v[1], v[3]);
-          faces.push_back({v[0], v[1], v[2]});
-          faces.push_back({v[0], v[2], v[3]});
-        }
-  deform::Cage cage;
-  cage.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
-  for (std::size_t v = 0; v < vertices.size(); ++v) cage.vertices.row(static_cast<Eigen::Index>(v)) = vertices[v];
-  cage.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    cage.faces.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
-  return cage;
-}
-
 /// A cube cage (3 segments per side: 56 vertices) around `m`, 2 % wider than its longest side:
 /// the grid is the full resolution³ cube.
 deform::Cage cube_cage(const mesh::Mesh& m) {
@@ -277,7 +242,8 @@ deform::Cage cube_cage(const mesh::Mesh& m) {
   const Eigen::Vector3d hi = m.positions.colwise().maxCoeff().transpose().cast<double>();
   const double side = 1.02 * (hi - lo).maxCoeff();
   const Eigen::Vector3d center = 0.5 * (lo + hi);
-  return box_cage(center - Eigen::Vector3d::Constant(side / 2), center + Eigen::Vector3d::Constant(side / 2), 3);
+  return deform::box_cage(center - Eigen::Vector3d::Constant(side / 2), center + Eigen::Vector3d::Constant(side / 2),
+                          {3, 3, 3});
 }
 
 /// Cage coordinates of CesiumMan in cube_cage(): the grid resolution³ (the cage fills the grid,

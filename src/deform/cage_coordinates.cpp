@@ -25,6 +25,7 @@
 #include "cgamesh/io/atomic_file.hpp"
 
 #include "../parallel_for.hpp"
+#include "generator_table.hpp"
 
 namespace cgamesh::deform {
 namespace {
@@ -375,6 +376,16 @@ void solve(const Multigrid& mg, const Grid& g, std::size_t level, const Block& f
                     " iterations");
 }
 
+Cage to_cage(const std::vector<Vec3>& vertices, const std::vector<std::array<int, 3>>& faces) {
+  Cage cage;
+  cage.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
+  for (std::size_t v = 0; v < vertices.size(); ++v) cage.vertices.row(static_cast<Eigen::Index>(v)) = vertices[v];
+  cage.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    cage.faces.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
+  return cage;
+}
+
 }  // namespace
 
 Cage read_cage_obj(const std::filesystem::path& path) {
@@ -418,13 +429,44 @@ Cage read_cage_obj(const std::filesystem::path& path) {
       for (std::size_t c = 1; c + 1 < corners.size(); ++c) faces.push_back({corners[0], corners[c], corners[c + 1]});
     }
   }
-  Cage cage;
-  cage.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
-  for (std::size_t v = 0; v < vertices.size(); ++v) cage.vertices.row(static_cast<Eigen::Index>(v)) = vertices[v];
-  cage.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    cage.faces.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
-  return cage;
+  return to_cage(vertices, faces);
+}
+
+Cage box_cage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const std::array<int, 3>& cuts) {
+  if (!lo.allFinite() || !hi.allFinite() || !(hi.array() > lo.array()).all())
+    throw InvalidInputError("box cage: expected finite corners with lo < hi on every axis");
+  if (std::any_of(cuts.begin(), cuts.end(), [](int c) { return c < 1; }))
+    throw InvalidInputError("box cage: expected at least 1 segment per axis");
+  std::map<std::array<int, 3>, int> index;  // lattice point on the surface → vertex
+  std::vector<Vec3> vertices;
+  std::vector<std::array<int, 3>> faces;
+  const auto vertex = [&](const std::array<int, 3>& q) {
+    const auto [it, added] = index.emplace(q, static_cast<int>(vertices.size()));
+    if (added)
+      vertices.push_back(lo +
+                         (hi - lo).cwiseProduct(Vec3(q[0], q[1], q[2]).cwiseQuotient(Vec3(cuts[0], cuts[1], cuts[2]))));
+    return it->second;
+  };
+  for (std::size_t a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      const std::size_t b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int i = 0; i < cuts[b]; ++i)
+        for (int j = 0; j < cuts[c]; ++j) {
+          std::array<int, 4> v{};
+          for (int k = 0; k < 4; ++k) {
+            std::array<int, 3> q{};
+            q[a] = side * cuts[a];
+            q[b] = i + (k == 1 || k == 2);
+            q[c] = j + (k >= 2);
+            v[static_cast<std::size_t>(k)] = vertex(q);
+          }
+          // (b, c) turns counter-clockwise about +a: outward on the + side.
+          if (side == 0) std::swap(v[1], v[3]);
+          faces.push_back({v[0], v[1], v[2]});
+          faces.push_back({v[0], v[2], v[3]});
+        }
+    }
+  return to_cage(vertices, faces);
 }
 
 void check_cage(const Cage& cage) {
@@ -674,22 +716,10 @@ void CageDeformation::deform_points(std::span<const Eigen::Vector3d> points, mes
 }
 
 void CageDeformation::deform_motors(std::span<const cga::Versor<double>> motors, mesh::RowMatrixXf<3>& out) const {
-  using Generator = cga::SimilarityGenerator<double>;
-  constexpr int kSize = static_cast<int>(Generator::size);
-  Eigen::Matrix<float, kSize, Eigen::Dynamic> logs(kSize, static_cast<Eigen::Index>(motors.size()));
-  if (static_cast<Eigen::Index>(motors.size()) == cage_.rows()) {
-    const std::vector<Generator> generators = similarity_logs(motors);
-    for (std::size_t c = 0; c < generators.size(); ++c)
-      for (int k = 0; k < kSize; ++k)
-        logs(k, static_cast<Eigen::Index>(c)) = static_cast<float>(generators[c][static_cast<std::size_t>(k)]);
-  }
-  frame(motors.size(), "cage vertex motors", out, [&](Eigen::Index i) -> Eigen::RowVector3f {
-    const Eigen::Matrix<float, kSize, 1> g = contract(i, logs);
-    std::array<double, Generator::size> coefficients{};
-    for (int k = 0; k < kSize; ++k) coefficients[static_cast<std::size_t>(k)] = g[k];
-    const Eigen::Matrix<double, 3, 4> m = similarity_exp_affine(Generator(coefficients));
-    return (m.leftCols<3>() * rest_.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
-  });
+  Eigen::Matrix<float, detail::kGeneratorSize, Eigen::Dynamic> logs;
+  if (static_cast<Eigen::Index>(motors.size()) == cage_.rows()) detail::fill_log_table(motors, logs);
+  frame(motors.size(), "cage vertex motors", out,
+        [&](Eigen::Index i) -> Eigen::RowVector3f { return detail::exp_apply(contract(i, logs), rest_.row(i)); });
 }
 
 }  // namespace cgamesh::deform

@@ -107,8 +107,10 @@ HarmonicPrecomputation harmonic_precompute(const mesh::Mesh& mesh, std::span<con
       const int si = slot[static_cast<std::size_t>(it.row())], sj = slot[static_cast<std::size_t>(col)];
       if (si < 0 || it.row() == col) continue;
       diagonal[si] += it.value();
-      if (sj >= 0) ff.emplace_back(si, sj, -it.value());
-      else fc.emplace_back(si, -1 - sj, it.value());
+      if (sj >= 0)
+        ff.emplace_back(si, sj, -it.value());
+      else
+        fc.emplace_back(si, -1 - sj, it.value());
     }
   for (int i = 0; i < free_count; ++i) ff.emplace_back(i, i, diagonal[i]);
   SparseMatrix lff(free_count, free_count);
@@ -118,8 +120,9 @@ HarmonicPrecomputation harmonic_precompute(const mesh::Mesh& mesh, std::span<con
   if (free_count > 0) {
     pre.ldlt = std::make_unique<Eigen::SimplicialLDLT<SparseMatrix>>(lff);
     if (pre.ldlt->info() != Eigen::Success)
-      throw SolverError("harmonic field: the factorisation of the Laplacian failed (degenerate triangles, or "
-                        "cotangent weights on a mesh with very obtuse triangles: try mean-value weights)");
+      throw SolverError(
+          "harmonic field: the factorisation of the Laplacian failed (degenerate triangles, or "
+          "cotangent weights on a mesh with very obtuse triangles: try mean-value weights)");
   }
   return pre;
 }

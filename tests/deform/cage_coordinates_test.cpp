@@ -39,55 +39,13 @@ const mesh::Mesh& cesium_man() {
   return m;
 }
 
-/// The box [lo, hi] as a closed cage with outward faces, each side cut into the segments of
-/// `cuts` (per axis): a coarse cage whose boundary values are not one affine function per side.
-Cage box_cage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const std::array<int, 3>& cuts) {
-  Cage cage;
-  std::vector<Eigen::Vector3d> vertices;
-  std::vector<std::array<int, 3>> faces;
-  std::map<std::array<int, 3>, int> index;  // lattice point on the surface → vertex
-  const auto vertex = [&](std::array<int, 3> q) {
-    const auto it = index.find(q);
-    if (it != index.end()) return it->second;
-    Eigen::Vector3d p;
-    for (int a = 0; a < 3; ++a)
-      p[a] = lo[a] + (hi[a] - lo[a]) * q[static_cast<std::size_t>(a)] / cuts[static_cast<std::size_t>(a)];
-    vertices.push_back(p);
-    return index[q] = static_cast<int>(vertices.size()) - 1;
-  };
-  for (int a = 0; a < 3; ++a)
-    for (int side = 0; side < 2; ++side) {
-      const int b = (a + 1) % 3, c = (a + 2) % 3;
-      for (int i = 0; i < cuts[static_cast<std::size_t>(b)]; ++i)
-        for (int j = 0; j < cuts[static_cast<std::size_t>(c)]; ++j) {
-          std::array<std::array<int, 3>, 4> q{};
-          for (int k = 0; k < 4; ++k) {
-            q[static_cast<std::size_t>(k)][static_cast<std::size_t>(a)] = side * cuts[static_cast<std::size_t>(a)];
-            q[static_cast<std::size_t>(k)][static_cast<std::size_t>(b)] = i + (k == 1 || k == 2);
-            q[static_cast<std::size_t>(k)][static_cast<std::size_t>(c)] = j + (k >= 2);
-          }
-          // (b, c) is right-handed about +a: counter-clockwise seen from outside on the + side.
-          std::array<int, 4> v{vertex(q[0]), vertex(q[1]), vertex(q[2]), vertex(q[3])};
-          if (side == 0) std::swap(v[1], v[3]);
-          faces.push_back({v[0], v[1], v[2]});
-          faces.push_back({v[0], v[2], v[3]});
-        }
-    }
-  cage.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
-  for (std::size_t v = 0; v < vertices.size(); ++v) cage.vertices.row(static_cast<Eigen::Index>(v)) = vertices[v];
-  cage.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    cage.faces.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
-  return cage;
-}
-
 /// A box cage 10 % larger than CesiumMan on every side, 2 × 2 × 4 segments (42 vertices).
 Cage man_cage(double grow = 0.1) {
   const mesh::RowMatrixXf<3>& p = cesium_man().positions;
   const Eigen::Vector3d lo = p.colwise().minCoeff().transpose().cast<double>();
   const Eigen::Vector3d hi = p.colwise().maxCoeff().transpose().cast<double>();
   const Eigen::Vector3d margin = grow * (hi - lo);
-  return box_cage(lo - margin, hi + margin, {2, 2, 4});
+  return deform::box_cage(lo - margin, hi + margin, {2, 2, 4});
 }
 
 /// The coordinates of CesiumMan in man_cage() at resolution 32, computed once.
@@ -201,7 +159,7 @@ TEST(CageCoordinates, CageNotEnclosingTheMeshNamesTheFirstVertexOutside) {
   const Eigen::Vector3d lo = p.colwise().minCoeff().transpose().cast<double>();
   Eigen::Vector3d hi = p.colwise().maxCoeff().transpose().cast<double>() + Eigen::Vector3d::Constant(0.01);
   hi[1] = 0.5 * (lo[1] + hi[1]);  // the half above sticks out
-  const Cage cage = box_cage(lo - Eigen::Vector3d::Constant(0.01), hi, {1, 1, 1});
+  const Cage cage = deform::box_cage(lo - Eigen::Vector3d::Constant(0.01), hi, {1, 1, 1});
   int first = -1;
   for (Eigen::Index i = 0; i < p.rows() && first < 0; ++i)
     if (p(i, 1) > hi[1]) first = static_cast<int>(i);
@@ -216,7 +174,7 @@ TEST(CageCoordinates, CageNotEnclosingTheMeshNamesTheFirstVertexOutside) {
 }
 
 TEST(CageCoordinates, OpenNonManifoldOrMisorientedCagesAreTopologyErrors) {
-  const Cage good = box_cage(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), {1, 1, 1});
+  const Cage good = deform::box_cage(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), {1, 1, 1});
   EXPECT_NO_THROW(deform::check_cage(good));
   const auto message = [](const Cage& c) {
     try {
