@@ -2,7 +2,8 @@
 // bound points) and one frame (per-vertex blended motor and sandwich) on the cow (~3k
 // vertices) and ogre (62k) from ../shared/data, and on CesiumMan subdivided past a million
 // vertices; single thread and all threads. FFD (section V) frames, classic and motor, on the
-// million-vertex mesh. The million-vertex frame takes its parameter from
+// million-vertex mesh; cage coordinates (section VI): the grid precompute up to 64³, and frames
+// on the million-vertex mesh, classic and motor. The million-vertex frame takes its parameter from
 // the height instead of a harmonic solve (the frame cost does not depend on where lambda
 // comes from). Also the factorisation and the solve of the harmonic field on ogre. ARAP
 // (section VII): precompute and time per iteration on cow, arm_16k, stanford-bunny and ogre, one
@@ -24,6 +25,7 @@
 #include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/deform/arap.hpp"
+#include "cgamesh/deform/cage_coordinates.hpp"
 #include "cgamesh/deform/ffd.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
 #include "cgamesh/deform/spline_deform.hpp"
@@ -238,6 +240,83 @@ void BM_FfdBind(benchmark::State& state, deform::LatticeBasis basis) {
   state.counters["vertices"] = static_cast<double>(million_mesh().vertex_count());
 }
 
+/// A cube cage (3 segments per side: 56 vertices) around `m`, 2 % wider than its longest side:
+/// the grid is the full resolution³ cube.
+deform::Cage cube_cage(const mesh::Mesh& m) {
+  const Eigen::Vector3d lo = m.positions.colwise().minCoeff().transpose().cast<double>();
+  const Eigen::Vector3d hi = m.positions.colwise().maxCoeff().transpose().cast<double>();
+  const double side = 1.02 * (hi - lo).maxCoeff();
+  const Eigen::Vector3d center = 0.5 * (lo + hi);
+  return deform::box_cage(center - Eigen::Vector3d::Constant(side / 2), center + Eigen::Vector3d::Constant(side / 2),
+                          {3, 3, 3});
+}
+
+/// Cage coordinates of CesiumMan in cube_cage(): the grid resolution³ (the cage fills the grid,
+/// so every node but a shell of two is an unknown). Args: resolution, threads (0 = all).
+void BM_CagePrecompute(benchmark::State& state) {
+  const mesh::Mesh m = io::load_model(std::string(CGAMESH_DATA_DIR) + "/CesiumMan.glb").meshes.at(0);
+  const deform::Cage cage = cube_cage(m);
+  deform::CageOptions options;
+  options.resolution = static_cast<int>(state.range(0));
+  options.threads = static_cast<int>(state.range(1));
+  for (auto _ : state) benchmark::DoNotOptimize(deform::cage_coordinates(m.positions, cage, options).data());
+  state.counters["cage_vertices"] = static_cast<double>(cage.vertices.rows());
+}
+
+/// The million-vertex mesh's coordinates in cube_cage() at resolution 32 (the frame cost does not
+/// depend on the resolution); one sparsity bound at a time (each holds up to ≈ 450 MB).
+const deform::CageDeformation& million_cage(int max_weights, int threads) {
+  static const deform::Cage cage = cube_cage(million_mesh());
+  static const Eigen::MatrixXd coordinates = [] {
+    deform::CageOptions options;
+    options.resolution = 32;
+    return deform::cage_coordinates(million_mesh().positions, cage, options);
+  }();
+  static std::optional<deform::CageDeformation> bound;
+  static std::pair<int, int> key;
+  if (!bound || key != std::pair{max_weights, threads}) {
+    bound.reset();
+    deform::CageSparsity sparsity;
+    sparsity.max_weights = max_weights;
+    bound.emplace(million_mesh().positions, cage, coordinates, sparsity, threads);
+    key = {max_weights, threads};
+  }
+  return *bound;
+}
+
+/// Cage frames (section VI) on the million-vertex mesh: a twist, each cage vertex turned about
+/// the vertical axis by 90° × its height in the cage — moved vertices (classic) or motors.
+/// Args: threads (0 = all), variant (0 classic, 1 motor), max_weights.
+void BM_CageFrame(benchmark::State& state) {
+  const deform::CageDeformation& d = million_cage(static_cast<int>(state.range(2)), static_cast<int>(state.range(0)));
+  const auto& c = d.cage_vertices();
+  const Eigen::Vector3d lo = c.colwise().minCoeff().transpose(), hi = c.colwise().maxCoeff().transpose();
+  const Eigen::Vector3d center = 0.5 * (lo + hi);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Versor<double>> motors;
+  for (Eigen::Index v = 0; v < c.rows(); ++v) {
+    const double angle = 0.5 * std::numbers::pi * (c(v, 2) - lo[2]) / (hi[2] - lo[2]);  // CesiumMan stands along z
+    motors.push_back(
+        cga::project<cga::mask::versor>(cga::translator(center) * cga::rotor(Eigen::Vector3d(0, 0, 1), angle) *
+                                        cga::translator(Eigen::Vector3d(-center))));
+    const Eigen::Matrix<double, 3, 4> m = cga::PointMap<double>(motors.back()).affine_matrix();
+    points.push_back(m.leftCols<3>() * c.row(v).transpose() + m.col(3));
+  }
+  const bool motor = state.range(1) == 1;
+  mesh::RowMatrixXf<3> out;
+  for (auto _ : state) {
+    if (motor)
+      d.deform_motors(motors, out);
+    else
+      d.deform_points(points, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * d.vertex_count());
+  state.counters["vertices"] = static_cast<double>(d.vertex_count());
+  state.counters["weights"] = d.mean_weights();
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
 std::vector<int> ogre_constraints(const mesh::Mesh& m) {
   std::vector<int> c = start_handle(m);
   const std::vector<int> top = slab(m, true);
@@ -375,6 +454,10 @@ BENCHMARK_CAPTURE(BM_FfdFrame, bspline, deform::LatticeBasis::bspline)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK_CAPTURE(BM_FfdBind, bspline, deform::LatticeBasis::bspline)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Args: resolution, threads (0 = all).
+BENCHMARK(BM_CagePrecompute)->ArgsProduct({{32, 64}, {1, 0}})->Unit(benchmark::kMillisecond)->UseRealTime();
+// Args: threads (0 = all), variant (0 classic, 1 motor), max_weights (56: all of the cube cage's).
+BENCHMARK(BM_CageFrame)->ArgsProduct({{1, 0}, {0, 1}, {8, 16, 56}})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DeformHarmonicFactorOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DeformHarmonicSolveOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_ArapPrecompute, cow, std::string("cow.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();

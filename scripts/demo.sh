@@ -32,9 +32,10 @@ done
   -o out/cesium_drilled.glb
 echo "demo: wrote $(ls out | wc -l) files to out/"
 ls -1 out
-# Motor-handle deformation (paper sections III, IV, V, VII): spline bend, harmonic handles, FABRIK chain,
-# a lattice twist by motors and by classic FFD.
-for spec in cesiumman_bend cesiumman_handles cesiumman_ik ffd_twist_motor ffd_twist_classic; do
+# Motor-handle deformation (paper sections III, IV, V, VI): spline bend, harmonic handles, FABRIK
+# chain, a lattice twist by motors and by classic FFD, arms raised by a hand-made cage
+# (data/cesiumman_cage.obj) with motors and classically.
+for spec in cesiumman_bend cesiumman_handles cesiumman_ik ffd_twist_motor ffd_twist_classic cage_motor cage_classic; do
   "$cli" deform "$model" --spec data/specs/$spec.json -o out/$spec.obj
 done
 # ARAP with rotors (section VII) on the cow and the arm of tests/assets: the neck lifted, the arm bent.

@@ -75,6 +75,13 @@ struct DeformCommand {
     }
     if (spec.method == deform::DeformMethod::arap)
       summary["arap"] = {{"iterations", arap.iterations}, {"energies", arap.energies}};
+    if (const deform::CageDeformation* cage = bound.cage()) {
+      Json points = Json::array();
+      for (const auto& h : bound.control_handles()) points.push_back(h.size());
+      summary["cage_vertices"] = cage->cage_vertex_count();
+      summary["handle_cage_vertices"] = points;
+      summary["mean_coordinates_kept"] = cage->mean_weights();
+    }
     const auto& ik = bound.ik();
     if (ik) summary["ik"] = {{"reached", ik->reached}, {"distance", ik->distance}, {"iterations", ik->iterations}};
     if (json) {
@@ -103,8 +110,9 @@ void add_deform(CLI::App& app) {
   auto c = std::make_shared<DeformCommand>();
   auto* sub = app.add_subcommand(
       "deform",
-      "motor-handle deformation (spline-aligned, harmonic coordinates, free-form lattice or as-rigid-as-possible) from "
-      "a JSON spec; acts on "
+      "motor-handle deformation (spline-aligned, harmonic coordinates, free-form lattice, harmonic cage or "
+      "as-rigid-as-possible) from a JSON "
+      "spec; acts on "
       "the bind pose "
       "in world space for a rigged model (the boxes of `info`), else in mesh space (\"space\" in the spec chooses)");
   sub->add_option("MESH", c->model, "model file (.obj, .ply, .glb, ...)")->required();

@@ -19,7 +19,8 @@ BsplineFit fit_bspline_motors(std::span<const cga::Versor<double>> keys, std::sp
   constexpr Eigen::Index kComponents = Generator::size;
   if (keys.empty() || keys.size() != parameters.size())
     throw InvalidInputError("B-spline fit: need as many parameters as keys, and at least one key (got " +
-                            std::to_string(keys.size()) + " keys, " + std::to_string(parameters.size()) + " parameters)");
+                            std::to_string(keys.size()) + " keys, " + std::to_string(parameters.size()) +
+                            " parameters)");
   const SplineOptions basis{SplineBasis::bspline, options.degree, {}};
   const auto k = static_cast<Eigen::Index>(keys.size()), m = static_cast<Eigen::Index>(control_count);
   Eigen::MatrixXd a(k, m), q(k, kComponents);
@@ -35,8 +36,10 @@ BsplineFit fit_bspline_motors(std::span<const cga::Versor<double>> keys, std::sp
 
   BsplineFit fit;
   const Eigen::MatrixXd ata = a.transpose() * a;
-  const Eigen::VectorXd eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(ata, Eigen::EigenvaluesOnly).eigenvalues();
-  const bool well_conditioned = eigenvalues.minCoeff() > 0 && eigenvalues.maxCoeff() / eigenvalues.minCoeff() <= options.max_condition;
+  const Eigen::VectorXd eigenvalues =
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(ata, Eigen::EigenvaluesOnly).eigenvalues();
+  const bool well_conditioned =
+      eigenvalues.minCoeff() > 0 && eigenvalues.maxCoeff() / eigenvalues.minCoeff() <= options.max_condition;
   Eigen::MatrixXd r;
   if (well_conditioned) {
     r = ata.llt().solve(a.transpose() * q);

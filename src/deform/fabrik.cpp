@@ -32,7 +32,8 @@ void place(const Eigen::Vector3d& from, Eigen::Vector3d& next, double length, co
 
 }  // namespace
 
-FabrikResult fabrik(std::span<const Eigen::Vector3d> joints, const Eigen::Vector3d& target, const FabrikOptions& options) {
+FabrikResult fabrik(std::span<const Eigen::Vector3d> joints, const Eigen::Vector3d& target,
+                    const FabrikOptions& options) {
   const std::size_t n = joints.size();
   if (n < 2) throw InvalidInputError("FABRIK: a chain needs at least 2 joints, got " + std::to_string(n));
   if (!target.allFinite()) throw InvalidInputError("FABRIK: the target is not finite");
@@ -70,7 +71,8 @@ FabrikResult fabrik(std::span<const Eigen::Vector3d> joints, const Eigen::Vector
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t bone = std::min(i, n - 2);
     const cga::Rotor<double> r = rotation_between(rest_bone(bone), p[bone + 1] - p[bone]);
-    result.motors.push_back(cga::project<cga::mask::motor>(cga::translator(p[i]) * r * cga::translator(Eigen::Vector3d(-joints[i]))));
+    result.motors.push_back(
+        cga::project<cga::mask::motor>(cga::translator(p[i]) * r * cga::translator(Eigen::Vector3d(-joints[i]))));
   }
   return result;
 }

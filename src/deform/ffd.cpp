@@ -11,6 +11,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "../parallel_for.hpp"
+#include "generator_table.hpp"
 
 namespace cgamesh::deform {
 namespace {
@@ -216,22 +217,10 @@ void FreeFormDeformation::deform_points(std::span<const Eigen::Vector3d> points,
 }
 
 void FreeFormDeformation::deform_motors(std::span<const cga::Versor<double>> motors, mesh::RowMatrixXf<3>& out) const {
-  using Generator = cga::SimilarityGenerator<double>;
-  constexpr int kSize = static_cast<int>(Generator::size);
-  FfdTable<kSize> logs(kSize, static_cast<Eigen::Index>(motors.size()));
-  if (static_cast<int>(motors.size()) == lattice_.count()) {
-    const std::vector<Generator> generators = similarity_logs(motors);
-    for (std::size_t c = 0; c < generators.size(); ++c)
-      for (int k = 0; k < kSize; ++k)
-        logs(k, static_cast<Eigen::Index>(c)) = static_cast<float>(generators[c][static_cast<std::size_t>(k)]);
-  }
-  frame(motors.size(), "control point motors", out, [&](Eigen::Index i) -> Eigen::RowVector3f {
-    const Eigen::Matrix<float, kSize, 1> g = contract(i, logs);
-    std::array<double, Generator::size> coefficients{};
-    for (int k = 0; k < kSize; ++k) coefficients[static_cast<std::size_t>(k)] = g[k];
-    const Eigen::Matrix<double, 3, 4> m = similarity_exp_affine(Generator(coefficients));
-    return (m.leftCols<3>() * rest_.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
-  });
+  FfdTable<detail::kGeneratorSize> logs;
+  if (static_cast<int>(motors.size()) == lattice_.count()) detail::fill_log_table(motors, logs);
+  frame(motors.size(), "control point motors", out,
+        [&](Eigen::Index i) -> Eigen::RowVector3f { return detail::exp_apply(contract(i, logs), rest_.row(i)); });
 }
 
 }  // namespace cgamesh::deform

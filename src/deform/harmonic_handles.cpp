@@ -17,8 +17,8 @@ Eigen::MatrixXd harmonic_coordinates(const mesh::Mesh& mesh, std::span<const std
     owner.insert(owner.end(), handles[j].size(), static_cast<int>(j));
   }
   const HarmonicPrecomputation pre = harmonic_precompute(mesh, constrained, options);
-  Eigen::MatrixXd boundary = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(constrained.size()),
-                                                   static_cast<Eigen::Index>(handles.size()));
+  Eigen::MatrixXd boundary =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(constrained.size()), static_cast<Eigen::Index>(handles.size()));
   for (std::size_t r = 0; r < constrained.size(); ++r) boundary(static_cast<Eigen::Index>(r), owner[r]) = 1.0;
   try {
     return harmonic_solve(pre, boundary);

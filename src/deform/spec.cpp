@@ -131,7 +131,9 @@ HandleSelection parse_handle(const Json& j, const DeformSpec& s, const std::stri
     std::copy(v.begin(), v.end(), h.shape.begin());
   } else {
     bad(field, std::string("expected a list of ") +
-                   (s.method == DeformMethod::ffd ? "control points [[u, v, k], ...]" : "vertex indices") +
+                   (s.method == DeformMethod::ffd    ? "control points [[u, v, k], ...]"
+                    : s.method == DeformMethod::cage ? "cage vertex indices"
+                                                     : "vertex indices") +
                    ", {\"sphere\": [x, y, z, r]} or {\"box\": [x0, y0, z0, x1, y1, z1]}");
   }
   return h;
@@ -222,6 +224,33 @@ ArapOptions parse_arap(const Json& j) {
     a.tolerance = t.get<double>();
   }
   return a;
+}
+
+/// A file name field, relative to `base` (the spec's directory) unless absolute.
+std::filesystem::path file_field(const Json& j, const std::string& field, const std::filesystem::path& base) {
+  if (!j[field].is_string() || j[field].get<std::string>().empty()) bad(field, "expected a file name");
+  const std::filesystem::path path = j[field].get<std::string>();
+  return path.is_absolute() ? path : base / path;
+}
+
+/// The cage method's fields: "cage", "deformed_cage" (classic), "resolution", "coordinates",
+/// "max_weights".
+CageSpec parse_cage(const Json& j, FfdVariant variant, const std::filesystem::path& base) {
+  CageSpec c;
+  if (!j.contains("cage")) bad("cage", "missing (the cage OBJ)");
+  c.cage = file_field(j, "cage", base);
+  if (j.contains("deformed_cage")) {
+    if (variant != FfdVariant::classic) bad("deformed_cage", "only the classic variant takes a deformed cage");
+    c.deformed = file_field(j, "deformed_cage", base);
+  }
+  if (j.contains("coordinates")) c.coordinates = file_field(j, "coordinates", base);
+  c.resolution = integer(j, "resolution", c.resolution);
+  if (c.resolution < kMinCageResolution || c.resolution > kMaxCageResolution)
+    bad("resolution", "expected an integer in [" + std::to_string(kMinCageResolution) + ", " +
+                          std::to_string(kMaxCageResolution) + "]");
+  c.max_weights = integer(j, "max_weights", c.max_weights);
+  if (c.max_weights < 1) bad("max_weights", "expected an integer >= 1");
+  return c;
 }
 
 IkChain parse_ik(const Json& ik) {
@@ -343,6 +372,14 @@ std::vector<int> free_part_keys(const DeformSpec& spec, const mesh::RowMatrixXf<
   return out;
 }
 
+/// Per control point (cage vertex) of `count`, the handles that select it, ascending.
+std::vector<std::vector<int>> keys_of_points(const std::vector<std::vector<int>>& handles, Eigen::Index count) {
+  std::vector<std::vector<int>> out(static_cast<std::size_t>(count));
+  for (std::size_t h = 0; h < handles.size(); ++h)
+    for (const int c : handles[h]) out[static_cast<std::size_t>(c)].push_back(static_cast<int>(h));
+  return out;
+}
+
 }  // namespace
 
 cga::Versor<double> KeyTransform::versor() const {
@@ -361,6 +398,8 @@ const char* method_name(DeformMethod method) noexcept {
       return "harmonic";
     case DeformMethod::ffd:
       return "ffd";
+    case DeformMethod::cage:
+      return "cage";
     case DeformMethod::arap:
       return "arap";
   }
@@ -375,24 +414,28 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
     throw InvalidInputError("spec " + source + " is not valid JSON: " + e.what());
   }
   if (!j.is_object()) throw InvalidInputError("spec " + source + ": expected a JSON object");
-  only_fields(j,
-              {"method", "mesh", "space", "weights", "handles", "keys", "basis", "degree", "ik", "free_parts",
-               "lattice", "variant", "energy", "local_step", "iterations", "tolerance"},
+  only_fields(j, {"method",     "mesh",        "space",       "weights", "handles",    "keys",       "basis",
+                  "degree",     "ik",          "free_parts",  "lattice", "variant",    "cage",       "deformed_cage",
+                  "resolution", "coordinates", "max_weights", "energy",  "local_step", "iterations", "tolerance"},
               "");
   DeformSpec s;
-  if (!j.contains("method")) bad("method", "missing (spline, harmonic, ffd or arap)");
+  if (!j.contains("method")) bad("method", "missing (spline, harmonic, ffd, cage or arap)");
   s.method = choice<DeformMethod>(j, "method",
                                   {{"spline", DeformMethod::spline},
                                    {"harmonic", DeformMethod::harmonic},
                                    {"ffd", DeformMethod::ffd},
+                                   {"cage", DeformMethod::cage},
                                    {"arap", DeformMethod::arap}},
                                   DeformMethod::spline);
   // Each method's own fields: a field another method reads is an error, not silently ignored.
-  const bool ffd = s.method == DeformMethod::ffd;
+  const bool ffd = s.method == DeformMethod::ffd, cage = s.method == DeformMethod::cage;
   for (const char* field : {"weights", "basis", "degree", "ik", "free_parts"})
-    if (ffd && j.contains(field)) bad(field, "not a field of the ffd method (see lattice)");
-  for (const char* field : {"lattice", "variant"})
-    if (!ffd && j.contains(field)) bad(field, "only the ffd method takes it");
+    if ((ffd || cage) && j.contains(field))
+      bad(field, std::string("not a field of the ") + method_name(s.method) + " method");
+  if (!ffd && j.contains("lattice")) bad("lattice", "only the ffd method takes it");
+  if (!ffd && !cage && j.contains("variant")) bad("variant", "only the ffd and cage methods take it");
+  for (const char* field : {"cage", "deformed_cage", "resolution", "coordinates", "max_weights"})
+    if (!cage && j.contains(field)) bad(field, "only the cage method takes it");
   const bool arap = s.method == DeformMethod::arap;
   for (const char* field : {"energy", "local_step", "iterations", "tolerance"})
     if (!arap && j.contains(field)) bad(field, "only the arap method takes it");
@@ -402,6 +445,7 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
   if (ffd && j.contains("lattice")) s.lattice = parse_lattice(j["lattice"]);
   s.variant = choice<FfdVariant>(j, "variant", {{"classic", FfdVariant::classic}, {"motor", FfdVariant::motor}},
                                  FfdVariant::motor);
+  if (cage) s.cage = parse_cage(j, s.variant, std::filesystem::path(source).parent_path());
   s.mesh = integer(j, "mesh", 0);
   if (s.mesh < 0) bad("mesh", "expected an index >= 0");
   if (j.contains("space"))
@@ -422,6 +466,12 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
   s.degree = integer(j, "degree", 3);
   if (s.degree < 1) bad("degree", "expected an integer >= 1");
 
+  if (s.cage.deformed) {
+    // The deformed cage is the pose: no handles or keys to combine with it.
+    for (const char* field : {"handles", "keys"})
+      if (j.contains(field)) bad(field, "a spec with a deformed_cage takes no handles or keys");
+    return s;
+  }
   if (!j.contains("handles") || !j["handles"].is_array()) bad("handles", "missing, or not an array");
   for (std::size_t h = 0; h < j["handles"].size(); ++h)
     s.handles.push_back(parse_handle(j["handles"][h], s, "handles[" + std::to_string(h) + "]"));
@@ -497,6 +547,10 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
   }
   if (spec.method == DeformMethod::ffd) {
     bind_ffd(spec, options);
+    return;
+  }
+  if (spec.method == DeformMethod::cage) {
+    bind_cage(spec, options);
     return;
   }
 
@@ -615,44 +669,99 @@ void BoundDeformer::bind_ffd(const DeformSpec& spec, const SpecBindOptions& opti
   } catch (const InvalidInputError& e) {
     bad("lattice", e.what());
   }
-  keys_of_point_.resize(static_cast<std::size_t>(lattice.count()));
-  for (std::size_t h = 0; h < spec.handles.size(); ++h) {
+  for (std::size_t h = 0; h < spec.handles.size(); ++h)
     control_handles_.push_back(select_control_points(spec.handles[h], lattice, "handles[" + std::to_string(h) + "]"));
-    handles_.emplace_back();
-    for (const int c : control_handles_.back())
-      keys_of_point_[static_cast<std::size_t>(c)].push_back(static_cast<int>(h));
-  }
+  handles_.resize(spec.handles.size());
+  keys_of_point_ = keys_of_points(control_handles_, lattice.count());
   check_key_count(spec);
   for (const KeyTransform& k : spec.keys) keys_.push_back(k.versor());
   free_ = ffd_->outside();
   variant_ = spec.variant;
 }
 
-void BoundDeformer::apply_ffd(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const {
-  if (keys.size() != keys_.size())
-    throw InvalidInputError("ffd: " + std::to_string(keys.size()) + " keys given, bound to " +
-                            std::to_string(keys_.size()));
-  // Each control point under the keys of its handles, composed in handle order.
-  const std::size_t count = keys_of_point_.size();
-  if (variant_ == FfdVariant::motor) {
+void BoundDeformer::bind_cage(const DeformSpec& spec, const SpecBindOptions& options) {
+  const CageSpec& c = spec.cage;
+  Cage cage = read_cage_obj(c.cage);
+  Eigen::MatrixXd coordinates;
+  try {
+    if (c.coordinates && std::filesystem::exists(*c.coordinates)) {
+      check_cage(cage);
+      coordinates = load_cage_coordinates(*c.coordinates, rest_.rows(), cage.vertices.rows());
+    } else {
+      CageOptions solve;
+      solve.resolution = c.resolution;
+      solve.threads = options.blend.threads;
+      coordinates = cage_coordinates(rest_, cage, solve);
+    }
+  } catch (const FileError&) {
+    rethrow_with_context("spec.coordinates: ");
+  } catch (const TopologyError& e) {
+    bad("cage", e.what());  // a bad value of the field, as the CLI reports it (exit 2)
+  } catch (const Error&) {
+    rethrow_with_context("spec.cage: ");
+  }
+  if (c.coordinates && !std::filesystem::exists(*c.coordinates)) {
+    try {
+      save_cage_coordinates(*c.coordinates, coordinates);
+    } catch (const Error&) {
+      rethrow_with_context("spec.coordinates: ");
+    }
+  }
+  CageSparsity sparsity;
+  sparsity.max_weights = c.max_weights;
+  cage_.emplace(rest_, cage, coordinates, sparsity, options.blend.threads);
+  if (c.deformed) {
+    const Cage posed = read_cage_obj(*c.deformed);
+    if (posed.vertices.rows() != cage.vertices.rows() || posed.faces != cage.faces)
+      bad("deformed_cage", "has other vertices or faces than the cage (" + std::to_string(posed.vertices.rows()) +
+                               " vertices and " + std::to_string(posed.faces.rows()) + " faces for " +
+                               std::to_string(cage.vertices.rows()) + " and " + std::to_string(cage.faces.rows()) +
+                               ")");
+    cage = posed;
+  }
+  for (Eigen::Index v = 0; v < cage.vertices.rows(); ++v) cage_points_.push_back(cage.vertices.row(v).transpose());
+  const mesh::RowMatrixXf<3> at_rest = cage_->cage_vertices().cast<float>();
+  for (std::size_t h = 0; h < spec.handles.size(); ++h)
+    control_handles_.push_back(select(spec.handles[h], at_rest, "handles[" + std::to_string(h) + "]", "cage vertex"));
+  handles_.resize(spec.handles.size());
+  keys_of_point_ = keys_of_points(control_handles_, cage.vertices.rows());
+  check_key_count(spec);
+  for (const KeyTransform& k : spec.keys) keys_.push_back(k.versor());
+  variant_ = spec.variant;
+}
+
+namespace {
+
+/// ffd and cage frames: each control point (cage vertex) under the keys of its handles, composed
+/// in handle order, then the deformer's classic (points) or motor variant.
+template <class Deformer>
+void move_control_points(const Deformer& deformer, FfdVariant variant,
+                         const std::vector<std::vector<int>>& keys_of_point, std::size_t bound_keys,
+                         std::span<const cga::Versor<double>> keys, std::vector<Eigen::Vector3d> points,
+                         mesh::RowMatrixXf<3>& out) {
+  if (keys.size() != bound_keys)
+    throw InvalidInputError(std::to_string(keys.size()) + " keys given, bound to " + std::to_string(bound_keys));
+  const std::size_t count = keys_of_point.size();
+  if (variant == FfdVariant::motor) {
     std::vector<cga::Versor<double>> motors(count, cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()));
     for (std::size_t c = 0; c < count; ++c)
-      for (const int h : keys_of_point_[c])
+      for (const int h : keys_of_point[c])
         motors[c] = cga::project<cga::mask::versor>(keys[static_cast<std::size_t>(h)] * motors[c]);
-    ffd_->deform_motors(motors, out);
+    deformer.deform_motors(motors, out);
     return;
   }
   (void)similarity_logs(keys);  // the classic variant takes similarities too, so that either variant fails alike
   std::vector<Eigen::Matrix<double, 3, 4>> maps;
   for (const auto& k : keys) maps.push_back(cga::PointMap<double>(k).affine_matrix());
-  std::vector<Eigen::Vector3d> points = ffd_->lattice().control_points();
   for (std::size_t c = 0; c < count; ++c)
-    for (const int h : keys_of_point_[c]) {
+    for (const int h : keys_of_point[c]) {
       const Eigen::Matrix<double, 3, 4>& m = maps[static_cast<std::size_t>(h)];
       points[c] = m.leftCols<3>() * points[c] + m.col(3);
     }
-  ffd_->deform_points(points, out);
+  deformer.deform_points(points, out);
 }
+
+}  // namespace
 
 void BoundDeformer::apply_arap(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out,
                                ArapReport* report) const {
@@ -676,7 +785,11 @@ void BoundDeformer::apply_arap(std::span<const cga::Versor<double>> keys, mesh::
 void BoundDeformer::apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out,
                           ArapReport* report) const {
   if (ffd_) {
-    apply_ffd(keys, out);
+    move_control_points(*ffd_, variant_, keys_of_point_, keys_.size(), keys, ffd_->lattice().control_points(), out);
+    return;
+  }
+  if (cage_) {
+    move_control_points(*cage_, variant_, keys_of_point_, keys_.size(), keys, cage_points_, out);
     return;
   }
   const auto deform = [&](mesh::RowMatrixXf<3>& positions) {

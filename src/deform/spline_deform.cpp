@@ -68,9 +68,9 @@ void spline_weights(const SplineOptions& options, double lambda, std::span<doubl
     }
     case SplineBasis::bspline:
       if (options.degree < 1) throw InvalidInputError("spline basis: the B-spline degree must be >= 1");
-      require(static_cast<int>(n) >= options.degree + 1,
-              "a B-spline of degree " + std::to_string(options.degree) + " needs at least " +
-                  std::to_string(options.degree + 1) + " key motors");
+      require(static_cast<int>(n) >= options.degree + 1, "a B-spline of degree " + std::to_string(options.degree) +
+                                                             " needs at least " + std::to_string(options.degree + 1) +
+                                                             " key motors");
       bspline_basis(options.degree, t, out);
       return;
   }

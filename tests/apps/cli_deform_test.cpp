@@ -32,7 +32,7 @@ fs::path write_spec(const TempDir& dir, const std::string& text) {
 TEST(CliDeform, ExampleSpecsRun) {
   TempDir dir;
   for (const char* name : {"cesiumman_bend.json", "cesiumman_handles.json", "cesiumman_ik.json", "ffd_twist_motor.json",
-                           "ffd_twist_classic.json"}) {
+                           "ffd_twist_classic.json", "cage_motor.json", "cage_classic.json"}) {
     const fs::path out = dir.path() / "out.obj";
     const Result r = run_cli(
         {"deform", cgamesh_test::demo_model().string(), "--spec", spec(name).string(), "-o", out.string(), "--json"},
@@ -192,6 +192,66 @@ TEST(CliDeform, ArapExampleSpecsRunAndReportTheEnergy) {
   const Points b = cgamesh::io::load_model(model).meshes.at(0).positions.cast<double>();
   ASSERT_EQ(a.rows(), b.rows());
   EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5);
+}
+
+// Every cage field: a bad value exits 2 naming it; a missing cage exits 3; the coordinates cache
+// is written once and read back.
+TEST(CliDeform, CageBadSpecsNameTheFieldAndTheCacheIsReused) {
+  TempDir dir;
+  const std::string model = cgamesh_test::demo_model().string(), out = (dir.path() / "out.obj").string();
+  fs::copy_file(fs::path(CGAMESH_DATA_DIR) / "cesiumman_cage.obj", dir.path() / "cage.obj");
+  std::ofstream(dir.path() / "tetra.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  std::ofstream(dir.path() / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n";
+  const std::string head = R"({"method": "cage", "cage": "cage.obj", )";
+  const std::string tail = R"("handles": [[0]], "keys": [{}]})";
+  const std::pair<std::string, const char*> cases[] = {
+      {head + R"("resolution": 1000, )" + tail, "spec.resolution"},
+      {head + R"("max_weights": 0, )" + tail, "spec.max_weights"},
+      {head + R"("coordinates": 5, )" + tail, "spec.coordinates"},
+      {head + R"("variant": "soft", )" + tail, "spec.variant"},
+      {head + R"("deformed_cage": "tetra.obj", )" + tail, "spec.deformed_cage"},
+      {head + R"("variant": "classic", "deformed_cage": "tetra.obj"})", "spec.deformed_cage"},
+      {head + R"("lattice": {}, )" + tail, "spec.lattice"},
+      {R"({"method": "cage", "cage": "", )" + tail, "spec.cage"},
+      {R"({"method": "cage", "cage": "open.obj", )" + tail, "spec.cage"},
+      {R"({"method": "cage", "cage": "tetra.obj", )" + tail, "spec.cage"},
+      {head + R"("handles": [[60]], "keys": [{}]})", "spec.handles[0]"},
+      {head + R"("handles": [{"sphere": [9, 9, 9, 0.1]}], "keys": [{}]})", "spec.handles[0]"},
+      {head + R"("handles": [[0]], "keys": []})", "spec.keys"},
+  };
+  for (const auto& [text, field] : cases) {
+    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
+    EXPECT_EQ(r.code, 2) << text << "\n" << r;
+    EXPECT_NE(r.err.find(field), std::string::npos) << r;
+  }
+  for (const char* text :
+       {R"({"method": "cage", "cage": "none.obj", "handles": [[0]], "keys": [{}]})",
+        R"({"method": "cage", "variant": "classic", "cage": "cage.obj", "deformed_cage": "none.obj"})"}) {
+    const Result r = run_cli({"deform", model, "--spec", write_spec(dir, text).string(), "-o", out}, dir.path());
+    EXPECT_EQ(r.code, 3) << text << "\n" << r;
+    EXPECT_NE(r.err.find("none.obj"), std::string::npos) << r;
+  }
+
+  const std::string cached = head + R"("resolution": 24, "coordinates": "c.npy", "handles": [[0, 1]],
+      "keys": [{"translate": [0, 0.05, 0]}]})";
+  const fs::path first = dir.path() / "first.obj", second = dir.path() / "second.obj";
+  ASSERT_EQ(
+      run_cli({"deform", model, "--spec", write_spec(dir, cached).string(), "-o", first.string()}, dir.path()).code, 0);
+  ASSERT_TRUE(fs::exists(dir.path() / "c.npy"));
+  const auto written = fs::last_write_time(dir.path() / "c.npy");
+  ASSERT_EQ(
+      run_cli({"deform", model, "--spec", write_spec(dir, cached).string(), "-o", second.string()}, dir.path()).code,
+      0);
+  EXPECT_EQ(fs::last_write_time(dir.path() / "c.npy"), written);
+  EXPECT_EQ(read_obj_vertices(first), read_obj_vertices(second));
+  // A cache of another mesh is refused (not overwritten), naming the field.
+  const std::string other = R"({"method": "cage", "space": "mesh", "cage": "tetra.obj", "coordinates": "c.npy",
+      "handles": [[0]], "keys": [{}]})";
+  const Result stale = run_cli(
+      {"deform", cgamesh_test::asset("spot.obj").string(), "--spec", write_spec(dir, other).string(), "-o", out},
+      dir.path());
+  EXPECT_EQ(stale.code, 3) << stale;
+  EXPECT_NE(stale.err.find("spec.coordinates"), std::string::npos) << stale;
 }
 
 // Both variants of the example twist run to a .glb with the rig; identity keys keep the mesh.

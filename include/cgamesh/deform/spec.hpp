@@ -22,6 +22,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/cga/multivector.hpp"
 #include "cgamesh/deform/arap.hpp"
+#include "cgamesh/deform/cage_coordinates.hpp"
 #include "cgamesh/deform/fabrik.hpp"
 #include "cgamesh/deform/ffd.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
@@ -35,16 +36,26 @@ enum class DeformMethod {
   spline,    ///< spline-aligned (III): two handles, the keys along the harmonic parameter
   harmonic,  ///< harmonic coordinates (IV): one key per handle
   ffd,       ///< free-form deformation (V): handles select lattice control points, one key each
+  cage,      ///< harmonic cage coordinates (VI): handles select cage vertices, or a deformed cage
   arap,      ///< as-rigid-as-possible (VII): one key per handle moves its vertices, the rest follows
 };
 
-/// The method's name in a spec ("spline", "harmonic", "ffd", "arap").
+/// The method's name in a spec ("spline", "harmonic", "ffd", "cage", "arap").
 [[nodiscard]] const char* method_name(DeformMethod method) noexcept;
 
-/// How an FFD spec moves its lattice (section V).
+/// How an FFD or cage spec moves its lattice or cage (sections V, VI).
 enum class FfdVariant {
-  classic,  ///< each control point moved by its key, eq. 6
-  motor,    ///< each control point carries its key as a motor, blended by eqs. 7-8
+  classic,  ///< each control point (cage vertex) moved by its key, eq. 6 (p = Σ λ c)
+  motor,    ///< each control point (cage vertex) carries its key as a motor, blended by eqs. 7-8
+};
+
+/// The cage of a cage spec; paths are resolved against the spec file's directory.
+struct CageSpec {
+  std::filesystem::path cage;                        ///< the rest cage (OBJ), in the spec's space
+  std::optional<std::filesystem::path> deformed;     ///< classic: the posed cage, same vertices and faces
+  int resolution = 64;                               ///< CageOptions::resolution
+  std::optional<std::filesystem::path> coordinates;  ///< .npy cache: loaded if present, else computed and written
+  int max_weights = 16;                              ///< CageSparsity::max_weights
 };
 
 /// The lattice of an FFD spec; its box is resolved against the mesh at bind.
@@ -69,7 +80,8 @@ enum class FreeParts {
 };
 
 /// A handle's vertex set as the spec gives it; for the ffd method a set of lattice control points
-/// (lattice_points, or the sphere or box containing their rest positions).
+/// (lattice_points, or the sphere or box containing their rest positions), for the cage method a
+/// set of cage vertices (indices into the cage OBJ, or the sphere or box containing them at rest).
 struct HandleSelection {
   enum class Kind { indices, sphere, box, lattice_points };
   Kind kind = Kind::indices;
@@ -110,7 +122,8 @@ struct DeformSpec {
   int degree = 3;
   FreeParts free_parts = FreeParts::nearest;
   LatticeSpec lattice;                     ///< ffd only
-  FfdVariant variant = FfdVariant::motor;  ///< ffd only
+  FfdVariant variant = FfdVariant::motor;  ///< ffd and cage
+  CageSpec cage;                           ///< cage only
   /// arap only: energy, weights (cotangent unless the spec says clamped_cotangent), local step,
   /// iterations and tolerance; threads come from SpecBindOptions.
   ArapOptions arap;
@@ -118,7 +131,8 @@ struct DeformSpec {
 
 /// Parses a spec from JSON text.
 /// @param[in] text    the JSON document (an object)
-/// @param[in] source  where it comes from (a path), for messages
+/// @param[in] source  where it comes from (a path), for messages; a cage spec's files are
+///                    relative to its directory
 /// @throws InvalidInputError "spec SOURCE is not valid JSON: ...", "spec SOURCE: expected a JSON
 ///         object", or "spec.FIELD: ..." naming the first bad field (unknown field, bad value,
 ///         both keys and ik). Whether the method and basis take the number of keys is checked
@@ -162,7 +176,12 @@ class BoundDeformer {
   ///         arap: "spec.handles[h]: ..." as harmonic, SolverError when the factorisation fails;
   ///         ffd: "spec.handles[h]: ..." for a control point outside the lattice or a selection of
   ///         none, "spec.lattice.margin: ..." for a mesh flat along an axis without a margin;
-  ///         SolverError as harmonic_precompute().
+  ///         cage: FileError for a cage, deformed cage or coordinates file that cannot be read,
+  ///         "spec.cage: ..." as check_cage() or for a vertex outside the cage (InvalidInputError),
+  ///         "spec.deformed_cage: ..." for another topology, "spec.coordinates: ..." for a cache
+  ///         of another shape or that cannot be written (WriteError), "spec.handles[h]: ..." for a
+  ///         cage vertex out of range or a selection of none;
+  ///         SolverError as harmonic_precompute() and cage_coordinates().
   BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& model, const SpecBindOptions& options = {});
 
   [[nodiscard]] int mesh_index() const noexcept { return mesh_; }
@@ -181,14 +200,18 @@ class BoundDeformer {
   [[nodiscard]] const std::vector<int>& free_vertices() const noexcept { return free_; }
   /// The bound lattice (ffd), else null.
   [[nodiscard]] const FreeFormDeformation* ffd() const noexcept { return ffd_ ? &*ffd_ : nullptr; }
-  /// Per handle, its control point indices (Lattice::index()) for ffd; empty otherwise. An ffd
-  /// handle selects no vertex: handles() then holds an empty set per handle.
+  /// The bound cage (cage), else null.
+  [[nodiscard]] const CageDeformation* cage() const noexcept { return cage_ ? &*cage_ : nullptr; }
+  /// Per handle, its control point indices (Lattice::index()) for ffd, its cage vertices for cage;
+  /// empty otherwise. Such a handle selects no mesh vertex: handles() then holds an empty set per
+  /// handle.
   [[nodiscard]] const std::vector<std::vector<int>>& control_handles() const noexcept { return control_handles_; }
 
   /// One frame: every vertex by its blended motor under `keys` (eq. 2); a free part by its
   /// handle's key (FreeParts::nearest) or not at all (keep). ffd: each control point moved by
   /// the keys of the handles that select it, composed in handle order (identity when none), then
-  /// eq. 6 (classic) or eqs. 7-8 (motor).
+  /// eq. 6 (classic) or eqs. 7-8 (motor); cage: the same for the cage vertices (from the
+  /// deformed cage when the spec gives one), then CageDeformation.
   /// arap: each handle's vertices at its key applied to their rest positions, the others by
   /// arap_solve() from the rest shape (eqs. 9-12).
   /// @param[in]  keys    #n key versors (TRS similarities), in the order of keys()
@@ -221,7 +244,7 @@ class BoundDeformer {
   void bind_arap(const DeformSpec& spec, const mesh::Mesh& shape, const std::vector<std::vector<int>>& handles,
                  const SpecBindOptions& options);
   void apply_arap(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport* report) const;
-  void apply_ffd(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out) const;
+  void bind_cage(const DeformSpec& spec, const SpecBindOptions& options);
 
   int mesh_ = 0;
   DeformSpace space_ = DeformSpace::mesh;
@@ -242,8 +265,11 @@ class BoundDeformer {
   Eigen::MatrixXd arap_rest_;
   std::optional<FreeFormDeformation> ffd_;
   FfdVariant variant_ = FfdVariant::motor;
+  std::optional<CageDeformation> cage_;
+  /// cage: the cage vertices before the keys (the deformed cage for classic, else the rest cage).
+  std::vector<Eigen::Vector3d> cage_points_;
   std::vector<std::vector<int>> control_handles_;
-  /// ffd: per control point, the handles that select it, ascending.
+  /// ffd, cage: per control point (cage vertex), the handles that select it, ascending.
   std::vector<std::vector<int>> keys_of_point_;
   /// World space: #V inverse bind maps [A⁻¹  −A⁻¹ b].
   std::vector<Eigen::Matrix<double, 3, 4>> to_mesh_;
