@@ -29,6 +29,18 @@ fs::path write_spec(const TempDir& dir, const std::string& text) {
   return p;
 }
 
+/// `spec` (identity keys) deforms spot.obj into itself.
+void expect_spot_kept(const TempDir& dir, const std::string& spec) {
+  const fs::path out = dir.path() / "same.obj";
+  const std::string model = cgamesh_test::asset("spot.obj").string();
+  const fs::path s = write_spec(dir, spec);
+  ASSERT_EQ(run_cli({"deform", model, "--spec", s.string(), "-o", out.string()}, dir.path()).code, 0);
+  const Points a = read_obj_vertices(out);
+  const Points b = cgamesh::io::load_model(model).meshes.at(0).positions.cast<double>();
+  ASSERT_EQ(a.rows(), b.rows());
+  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5);
+}
+
 TEST(CliDeform, ExampleSpecsRun) {
   TempDir dir;
   for (const char* name : {"cesiumman_bend.json", "cesiumman_handles.json", "cesiumman_ik.json", "ffd_twist_motor.json",
@@ -51,15 +63,8 @@ TEST(CliDeform, ExampleSpecsRun) {
 
 TEST(CliDeform, IdentityKeysKeepTheMesh) {
   TempDir dir;
-  const fs::path out = dir.path() / "out.obj";
-  const std::string model = cgamesh_test::asset("spot.obj").string();
-  const fs::path s = write_spec(dir, R"({"method": "harmonic", "handles": [[0, 1, 2], [500, 501]],
-                                         "keys": [{}, {"rotate": [0, 0, 1, 0]}]})");
-  ASSERT_EQ(run_cli({"deform", model, "--spec", s.string(), "-o", out.string()}, dir.path()).code, 0);
-  const Points a = read_obj_vertices(out);
-  const Points b = cgamesh::io::load_model(model).meshes.at(0).positions.cast<double>();
-  ASSERT_EQ(a.rows(), b.rows());
-  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5);
+  expect_spot_kept(dir, R"({"method": "harmonic", "handles": [[0, 1, 2], [500, 501]],
+                             "keys": [{}, {"rotate": [0, 0, 1, 0]}]})");
 }
 
 TEST(CliDeform, BadSpecsNameTheField) {
@@ -182,16 +187,9 @@ TEST(CliDeform, ArapExampleSpecsRunAndReportTheEnergy) {
     EXPECT_GT((p - rest).cwiseAbs().maxCoeff(), 0.1) << name;  // it moved
   }
   // Identity keys keep the mesh (the rest shape has zero energy).
-  const fs::path out = dir.path() / "same.obj";
-  const std::string model = cgamesh_test::asset("spot.obj").string();
-  const fs::path s = write_spec(dir, R"({"method": "arap", "handles": [[0, 1, 2], [500, 501]], "keys": [{}, {}],
-                                         "local_step": "svd", "energy": "spokes", "weights": "clamped_cotangent",
-                                         "iterations": 3, "tolerance": 0.01})");
-  ASSERT_EQ(run_cli({"deform", model, "--spec", s.string(), "-o", out.string()}, dir.path()).code, 0);
-  const Points a = read_obj_vertices(out);
-  const Points b = cgamesh::io::load_model(model).meshes.at(0).positions.cast<double>();
-  ASSERT_EQ(a.rows(), b.rows());
-  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-5);
+  expect_spot_kept(dir, R"({"method": "arap", "handles": [[0, 1, 2], [500, 501]], "keys": [{}, {}],
+                             "local_step": "svd", "energy": "spokes", "weights": "clamped_cotangent",
+                             "iterations": 3, "tolerance": 0.01})");
 }
 
 // Every cage field: a bad value exits 2 naming it; a missing cage exits 3; the coordinates cache

@@ -22,8 +22,11 @@
 #include "cgamesh/io/model_loader.hpp"
 
 #include "anim/model_fixtures.hpp"
+#include "deform/deform_fixtures.hpp"
 
 namespace {
+
+using cgamesh_deform_test::moved;
 
 using namespace cgamesh;  // NOLINT(google-build-using-namespace)
 using deform::Cage;
@@ -60,14 +63,6 @@ const Eigen::MatrixXd& man_coordinates() {
 
 double cell_size(const Cage& cage, int resolution) {
   return (cage.vertices.colwise().maxCoeff() - cage.vertices.colwise().minCoeff()).maxCoeff() / resolution;
-}
-
-mesh::RowMatrixXf<3> moved(const mesh::RowMatrixXf<3>& p, const Versor& k) {
-  const Eigen::Matrix<double, 3, 4> m = cga::PointMap<double>(k).affine_matrix();
-  mesh::RowMatrixXf<3> out(p.rows(), 3);
-  for (Eigen::Index i = 0; i < p.rows(); ++i)
-    out.row(i) = (m.leftCols<3>() * p.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
-  return out;
 }
 
 Versor rigid_motion() {

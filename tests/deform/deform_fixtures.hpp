@@ -9,9 +9,11 @@
 
 #include <Eigen/Core>
 
-#include "anim/model_fixtures.hpp"
+#include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/mesh/mesh.hpp"
+
+#include "anim/model_fixtures.hpp"
 
 namespace cgamesh_deform_test {
 
@@ -40,6 +42,16 @@ inline Mesh cylinder(int around, int rings, bool split_seam = false) {
   m.faces.resize(static_cast<Eigen::Index>(f.size() / 3), 3);
   std::copy(f.begin(), f.end(), m.faces.data());
   return m;
+}
+
+/// x ↦ K x for a versor K, on every row.
+inline cgamesh::mesh::RowMatrixXf<3> moved(const cgamesh::mesh::RowMatrixXf<3>& p,
+                                           const cgamesh::cga::Versor<double>& k) {
+  const Eigen::Matrix<double, 3, 4> m = cgamesh::cga::PointMap<double>(k).affine_matrix();
+  cgamesh::mesh::RowMatrixXf<3> out(p.rows(), 3);
+  for (Eigen::Index i = 0; i < p.rows(); ++i)
+    out.row(i) = (m.leftCols<3>() * p.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
+  return out;
 }
 
 /// The first mesh of a test asset.

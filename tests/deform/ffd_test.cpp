@@ -15,8 +15,11 @@
 #include "cgamesh/io/model_loader.hpp"
 
 #include "anim/model_fixtures.hpp"
+#include "deform/deform_fixtures.hpp"
 
 namespace {
+
+using cgamesh_deform_test::moved;
 
 using namespace cgamesh;  // NOLINT(google-build-using-namespace)
 using deform::BsplineEnds;
@@ -50,15 +53,6 @@ std::vector<Lattice> lattices(const mesh::RowMatrixXf<3>& rest) {
     l.box = deform::bounding_lattice_box(rest, 0.01);
     out.push_back(l);
   }
-  return out;
-}
-
-/// x ↦ K x for a versor K, on every row.
-mesh::RowMatrixXf<3> moved(const mesh::RowMatrixXf<3>& p, const Versor& k) {
-  const Eigen::Matrix<double, 3, 4> m = cga::PointMap<double>(k).affine_matrix();
-  mesh::RowMatrixXf<3> out(p.rows(), 3);
-  for (Eigen::Index i = 0; i < p.rows(); ++i)
-    out.row(i) = (m.leftCols<3>() * p.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
   return out;
 }
 
