@@ -25,9 +25,14 @@ fs::path cesium() { return fs::path(CGAMESH_DATA_DIR) / "CesiumMan.glb"; }
 
 bool xvfb_available() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
 
-/// `cgamesh view ARGS...` on a virtual 1280×1024 display.
+/// `cgamesh view ARGS...` on a virtual 1280×1024 display. The X authority file lives in the
+/// test's directory: with its own temporary directory, xvfb-run can fail its clean-up (exit 5)
+/// after the viewer has returned its code.
 Result run_view(const fs::path& dir, const std::vector<std::string>& args) {
-  std::vector<std::string> argv{"xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", cli_path().string(), "view"};
+  static int runs = 0;
+  const fs::path auth = dir / ("Xauthority." + std::to_string(runs++));
+  std::vector<std::string> argv{"xvfb-run",          "-a",  "-f", auth.string(), "-s", "-screen 0 1280x1024x24",
+                                cli_path().string(), "view"};
   argv.insert(argv.end(), args.begin(), args.end());
   return run_program(argv, dir);
 }
