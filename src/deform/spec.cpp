@@ -21,6 +21,7 @@
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/deform/harmonic_handles.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/mesh/union_find.hpp"
 #include "cgamesh/mesh/weld.hpp"
 
@@ -845,8 +846,9 @@ anim::RiggedModel BoundDeformer::deformed_model(const anim::RiggedModel& model,
     throw InvalidInputError("deformed_model: the model is not the one bound (mesh " + std::to_string(mesh_) +
                             " has another vertex count)");
   mesh::Mesh& m = out.meshes[static_cast<std::size_t>(mesh_)];
-  m.positions = to_mesh_space(positions);
-  m.normals.resize(0, 3);
+  const mesh::RowMatrixXf<3> rest = to_mesh_space(positions);
+  m.normals = mesh::reshaped_normals(m, rest);
+  m.positions = rest;
   return out;
 }
 

@@ -17,6 +17,8 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/mesh/normals.hpp"
+#include "cgamesh/mesh/weld.hpp"
 
 #include "anim/model_fixtures.hpp"
 #include "deform/deform_fixtures.hpp"
@@ -281,6 +283,28 @@ TEST(DeformSpecSpace, GltfKeepsSkinSkeletonAndClipsAndReposes) {
   EXPECT_EQ(back.skeleton.size(), model.skeleton.size());
   EXPECT_EQ(back.meshes[0].skin.palette.size(), model.meshes[0].skin.palette.size());
   EXPECT_LT(max_difference(deform::rest_positions(back, DeformSpace::world)[0], deformed), 1e-4);
+  // Normals of the new shape, written: where the key is the identity they are the rest shape's.
+  ASSERT_EQ(back.meshes[0].normals.rows(), back.meshes[0].vertex_count());
+  const mesh::RowMatrixXf<3> at_rest = mesh::reshaped_normals(model.meshes[0], model.meshes[0].positions);
+  // (Not next to a moved vertex, through a seam copy's faces too.)
+  const mesh::Mesh& rest_mesh = model.meshes[0];
+  const std::vector<int> at = mesh::weld_by_position(rest_mesh.positions);
+  std::vector<char> fixed(static_cast<std::size_t>(rest_mesh.vertex_count()), 0), near_moved = fixed;
+  for (const int v : bound.handles()[0]) fixed[static_cast<std::size_t>(v)] = 1;
+  for (Eigen::Index f = 0; f < rest_mesh.face_count(); ++f)
+    if (!fixed[rest_mesh.faces(f, 0)] || !fixed[rest_mesh.faces(f, 1)] || !fixed[rest_mesh.faces(f, 2)])
+      for (int k = 0; k < 3; ++k) near_moved[static_cast<std::size_t>(at[rest_mesh.faces(f, k)])] = 1;
+  int inside = 0;
+  for (const int v : bound.handles()[0]) {
+    if (near_moved[static_cast<std::size_t>(at[static_cast<std::size_t>(v)])]) continue;
+    ++inside;
+    EXPECT_LT((back.meshes[0].normals.row(v) - at_rest.row(v)).norm(), 1e-4f);
+  }
+  EXPECT_GT(inside, 20);
+  double turned = 0;
+  for (const int v : bound.handles()[1])
+    turned = std::max(turned, static_cast<double>((back.meshes[0].normals.row(v) - at_rest.row(v)).norm()));
+  EXPECT_GT(turned, 0.2) << "the moved handle's normals did not turn with it";
 
   // It re-animates: in a clip frame the fixed handle is where the original puts it, the moved
   // one elsewhere.

@@ -231,8 +231,8 @@ class BoundDeformer {
   [[nodiscard]] mesh::RowMatrixXf<3> to_mesh_space(const mesh::RowMatrixXf<3>& positions) const;
 
   /// The model with the mesh's rest shape replaced by `positions` (through to_mesh_space()), its
-  /// skin, skeleton and clips kept, so that it re-animates; its normals are dropped when it has
-  /// any (they were the rest shape's).
+  /// skin, skeleton and clips kept, so that it re-animates; its normals, when it has any, are
+  /// those of the new shape with the old smoothing (mesh::reshaped_normals).
   /// @param[in] model      the model bound (same meshes)
   /// @param[in] positions  #V×3 in space()
   /// @throws InvalidInputError when the model does not have the bound mesh's vertex count.
