@@ -197,6 +197,9 @@ class Viewer {
   bool preview_on_ = true, preview_dirty_ = true;
   std::optional<anim::RiggedModel> preview_;
   std::vector<Eigen::Vector3f> handle_points_;
+  // ffd, cage: the other control points and the lattice's or cage's edges, in the spec's space
+  // (world: the bind pose), where the keys put them.
+  std::vector<Eigen::Vector3f> free_control_points_, control_lines_;
   std::deque<std::string> log_;
   std::string status_;
   // Script.
@@ -552,6 +555,18 @@ void Viewer::update_preview() {
     handle_points_.clear();
     for (const std::vector<int>& h : deformer_->handles())
       for (const int v : h) handle_points_.push_back(placed.row(v).transpose());
+    const std::vector<Eigen::Vector3d> control = deformer_->control_points(deform_keys());
+    std::vector<char> selected(control.size(), 0);
+    for (const std::vector<int>& h : deformer_->control_handles())
+      for (const int c : h) selected[static_cast<std::size_t>(c)] = 1;
+    free_control_points_.clear();
+    for (std::size_t c = 0; c < control.size(); ++c)
+      (selected[c] ? handle_points_ : free_control_points_).push_back(control[c].cast<float>());
+    control_lines_.clear();
+    for (const auto& [a, b] : deformer_->control_edges()) {
+      control_lines_.push_back(control[static_cast<std::size_t>(a)].cast<float>());
+      control_lines_.push_back(control[static_cast<std::size_t>(b)].cast<float>());
+    }
   });
 }
 
@@ -609,6 +624,19 @@ render::Scene Viewer::scene() const {
   const anim::RiggedModel& shown = preview_ ? *preview_ : session_.model();
   const std::array<render::ModelInstance, 1> one{render::ModelInstance{&shown, session_.pose(), &session_.index()}};
   render::Scene s = render::model_scene(one, options_.scene);
+  if (preview_ && !control_lines_.empty()) {
+    render::LineSet l;
+    l.points = control_lines_;
+    l.color = {0.45f, 0.55f, 0.85f};
+    s.lines.push_back(std::move(l));
+  }
+  if (preview_ && !free_control_points_.empty()) {
+    render::PointSet p;
+    p.points = free_control_points_;
+    p.color = {0.45f, 0.55f, 0.85f};
+    p.size_pixels = 5;
+    s.points.push_back(std::move(p));
+  }
   if (preview_ && !handle_points_.empty()) {
     render::PointSet p;
     p.points = handle_points_;

@@ -674,6 +674,14 @@ void BoundDeformer::bind_ffd(const DeformSpec& spec, const SpecBindOptions& opti
     control_handles_.push_back(select_control_points(spec.handles[h], lattice, "handles[" + std::to_string(h) + "]"));
   handles_.resize(spec.handles.size());
   keys_of_point_ = keys_of_points(control_handles_, lattice.count());
+  const auto& r = lattice.resolution;
+  for (int k = 0; k < r[2]; ++k)
+    for (int v = 0; v < r[1]; ++v)
+      for (int u = 0; u < r[0]; ++u) {
+        if (u + 1 < r[0]) control_edges_.push_back({lattice.index(u, v, k), lattice.index(u + 1, v, k)});
+        if (v + 1 < r[1]) control_edges_.push_back({lattice.index(u, v, k), lattice.index(u, v + 1, k)});
+        if (k + 1 < r[2]) control_edges_.push_back({lattice.index(u, v, k), lattice.index(u, v, k + 1)});
+      }
   check_key_count(spec);
   for (const KeyTransform& k : spec.keys) keys_.push_back(k.versor());
   free_ = ffd_->outside();
@@ -726,12 +734,31 @@ void BoundDeformer::bind_cage(const DeformSpec& spec, const SpecBindOptions& opt
     control_handles_.push_back(select(spec.handles[h], at_rest, "handles[" + std::to_string(h) + "]", "cage vertex"));
   handles_.resize(spec.handles.size());
   keys_of_point_ = keys_of_points(control_handles_, cage.vertices.rows());
+  // A checked cage is closed and consistently oriented: each edge runs once each way.
+  for (Eigen::Index f = 0; f < cage.faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (cage.faces(f, k) < cage.faces(f, (k + 1) % 3))
+        control_edges_.push_back({cage.faces(f, k), cage.faces(f, (k + 1) % 3)});
   check_key_count(spec);
   for (const KeyTransform& k : spec.keys) keys_.push_back(k.versor());
   variant_ = spec.variant;
 }
 
 namespace {
+
+/// Each point under the keys (maps) of the handles that select it, composed in handle order.
+std::vector<Eigen::Vector3d> moved_points(const std::vector<std::vector<int>>& keys_of_point,
+                                          std::span<const cga::Versor<double>> keys,
+                                          std::vector<Eigen::Vector3d> points) {
+  std::vector<Eigen::Matrix<double, 3, 4>> maps;
+  for (const auto& k : keys) maps.push_back(cga::PointMap<double>(k).affine_matrix());
+  for (std::size_t c = 0; c < points.size(); ++c)
+    for (const int h : keys_of_point[c]) {
+      const Eigen::Matrix<double, 3, 4>& m = maps[static_cast<std::size_t>(h)];
+      points[c] = m.leftCols<3>() * points[c] + m.col(3);
+    }
+  return points;
+}
 
 /// ffd and cage frames: each control point (cage vertex) under the keys of its handles, composed
 /// in handle order, then the deformer's classic (points) or motor variant.
@@ -752,14 +779,7 @@ void move_control_points(const Deformer& deformer, FfdVariant variant,
     return;
   }
   (void)similarity_logs(keys);  // the classic variant takes similarities too, so that either variant fails alike
-  std::vector<Eigen::Matrix<double, 3, 4>> maps;
-  for (const auto& k : keys) maps.push_back(cga::PointMap<double>(k).affine_matrix());
-  for (std::size_t c = 0; c < count; ++c)
-    for (const int h : keys_of_point[c]) {
-      const Eigen::Matrix<double, 3, 4>& m = maps[static_cast<std::size_t>(h)];
-      points[c] = m.leftCols<3>() * points[c] + m.col(3);
-    }
-  deformer.deform_points(points, out);
+  deformer.deform_points(moved_points(keys_of_point, keys, std::move(points)), out);
 }
 
 }  // namespace
@@ -781,6 +801,14 @@ void BoundDeformer::apply_arap(std::span<const cga::Versor<double>> keys, mesh::
   const ArapReport r = arap_solve(*arap_, targets, positions);
   if (report != nullptr) *report = r;
   out = positions.cast<float>();
+}
+
+std::vector<Eigen::Vector3d> BoundDeformer::control_points(std::span<const cga::Versor<double>> keys) const {
+  if (keys.size() != keys_.size())
+    throw InvalidInputError(std::to_string(keys.size()) + " keys given, bound to " + std::to_string(keys_.size()));
+  if (ffd_) return moved_points(keys_of_point_, keys, ffd_->lattice().control_points());
+  if (cage_) return moved_points(keys_of_point_, keys, cage_points_);
+  return {};
 }
 
 void BoundDeformer::apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out,

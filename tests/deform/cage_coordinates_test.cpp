@@ -10,6 +10,7 @@
 #include <iostream>
 #include <map>
 #include <numbers>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -348,6 +349,18 @@ TEST(CageSpec, MotorHandlesCacheTheCoordinatesAndDeformedCagesMatchKeys) {
                          (dir.path() / "spec.json").string()),
       model);
   EXPECT_TRUE(from_file.keys().empty());
+  // What a viewer draws: the cage where the keys put it, and each edge of a closed genus-0 cage once.
+  const std::vector<Eigen::Vector3d> drawn = first.control_points(first.keys()),
+                                     posed_drawn = from_file.control_points({});
+  ASSERT_EQ(drawn.size(), static_cast<std::size_t>(cage.vertices.rows()));
+  ASSERT_EQ(posed_drawn.size(), drawn.size());
+  for (std::size_t v = 0; v < drawn.size(); ++v) {
+    EXPECT_LT((drawn[v] - posed.vertices.row(static_cast<Eigen::Index>(v)).transpose()).norm(), 1e-12) << v;
+    EXPECT_EQ(posed_drawn[v], posed.vertices.row(static_cast<Eigen::Index>(v)).transpose()) << v;
+  }
+  EXPECT_EQ(static_cast<Eigen::Index>(first.control_edges().size()), cage.vertices.rows() + cage.faces.rows() - 2);
+  std::set<std::array<int, 2>> edges(first.control_edges().begin(), first.control_edges().end());
+  EXPECT_EQ(edges.size(), first.control_edges().size());
   std::string classic = text;
   classic.replace(classic.find(R"("method": "cage")"), 16, R"("method": "cage", "variant": "classic")");
   const deform::BoundDeformer from_keys(deform::parse_spec(classic, (dir.path() / "spec.json").string()), model);

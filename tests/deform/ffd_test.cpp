@@ -340,16 +340,24 @@ TEST(FfdSpec, BindEqualsTheDirectLattice) {
     motors[4] = bound.keys()[0];
     motors[5] = cga::project<cga::mask::versor>(bound.keys()[1] * bound.keys()[0]);
     motors[11] = bound.keys()[1];
+    std::vector<Eigen::Vector3d> points = l.control_points();
+    for (std::size_t c = 0; c < points.size(); ++c) {
+      const Eigen::Matrix<double, 3, 4> m = cga::PointMap<double>(motors[c]).affine_matrix();
+      points[c] = m.leftCols<3>() * points[c] + m.col(3);
+    }
     mesh::RowMatrixXf<3> expected;
-    if (std::string(variant) == "motor") {
+    if (std::string(variant) == "motor")
       bound.ffd()->deform_motors(motors, expected);
-    } else {
-      std::vector<Eigen::Vector3d> points = l.control_points();
-      for (std::size_t c = 0; c < points.size(); ++c) {
-        const Eigen::Matrix<double, 3, 4> m = cga::PointMap<double>(motors[c]).affine_matrix();
-        points[c] = m.leftCols<3>() * points[c] + m.col(3);
-      }
+    else
       bound.ffd()->deform_points(points, expected);
+    // What a viewer draws: the moved control points and the 1·3·2 + 2·2·2 + 2·3·1 lattice edges.
+    const std::vector<Eigen::Vector3d> drawn = bound.control_points(bound.keys());
+    ASSERT_EQ(drawn.size(), points.size());
+    for (std::size_t c = 0; c < points.size(); ++c) EXPECT_LT((drawn[c] - points[c]).norm(), 1e-12) << c;
+    ASSERT_EQ(bound.control_edges().size(), 20U);
+    for (const auto& [a, b] : bound.control_edges()) {
+      const int step = b - a;
+      EXPECT_TRUE(step == 1 || step == 2 || step == 6) << a << " " << b;
     }
     const mesh::RowMatrixXf<3> out = bound.apply(bound.keys());
     EXPECT_LT(max_difference(out, expected), 1e-6) << variant;

@@ -206,6 +206,15 @@ class BoundDeformer {
   /// empty otherwise. Such a handle selects no mesh vertex: handles() then holds an empty set per
   /// handle.
   [[nodiscard]] const std::vector<std::vector<int>>& control_handles() const noexcept { return control_handles_; }
+  /// ffd: the lattice's edges (neighbours along an axis); cage: the cage's edges; as pairs of
+  /// control point indices, each once; empty otherwise. What a viewer draws between control_points().
+  [[nodiscard]] const std::vector<std::array<int, 2>>& control_edges() const noexcept { return control_edges_; }
+  /// ffd, cage: the control points (lattice points, cage vertices) in space(), each under the keys
+  /// of the handles that select it composed in handle order: where `keys` put them (classic: the
+  /// points the frame interpolates; motor: each point moved by its motor); empty otherwise.
+  /// @param[in] keys  #n key versors, in the order of keys()
+  /// @throws InvalidInputError when keys has the wrong size.
+  [[nodiscard]] std::vector<Eigen::Vector3d> control_points(std::span<const cga::Versor<double>> keys) const;
 
   /// One frame: every vertex by its blended motor under `keys` (eq. 2); a free part by its
   /// handle's key (FreeParts::nearest) or not at all (keep). ffd: each control point moved by
@@ -269,6 +278,7 @@ class BoundDeformer {
   /// cage: the cage vertices before the keys (the deformed cage for classic, else the rest cage).
   std::vector<Eigen::Vector3d> cage_points_;
   std::vector<std::vector<int>> control_handles_;
+  std::vector<std::array<int, 2>> control_edges_;
   /// ffd, cage: per control point (cage vertex), the handles that select it, ascending.
   std::vector<std::vector<int>> keys_of_point_;
   /// World space: #V inverse bind maps [A⁻¹  −A⁻¹ b].
