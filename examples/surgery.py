@@ -37,8 +37,9 @@ def main(out):
     for name, piece in [("upper", upper), ("lower", lower)]:
         reposed = piece.model.pose(time=0.5, edits=EDITS)
         piece.model.save(str(out / f"cesium_{name}_reposed.obj"), pose=reposed)
-        # The same edits stored as a clip, so a glTF viewer shows the re-posed piece.
-        keys = [(0.0, e) for e in EDITS]
+        # The same edits stored as a clip from the rest pose (t = 0) to the edits (t = 1 s), so a
+        # glTF viewer plays the re-posing.
+        keys = [(0.0, {"joint": ELBOW, "scale": 1}), (0.0, {"joint": WRIST, "scale": 1})] + [(1.0, e) for e in EDITS]
         piece.model.animate(keys, name="fig3").save(str(out / f"cesium_{name}_reposed.glb"))
     print(f"wrote {', '.join(sorted(p.name for p in out.iterdir()))} to {out}")
 

@@ -204,13 +204,15 @@ void add_cga(py::module_& m) {
                  "Operators: * geometric, ^ outer, | inner (Hestenes, no scalars), << left contraction, >> right "
                  "contraction, ~ reverse; + - with multivectors and numbers.")
       .def(py::init<>(), "zero")
-      .def(py::init(&from_values), py::arg("value"), "from 32 coefficients in blade order")
       .def(py::init([](double s) {
              Mv x;
              x[0] = s;
              return x;
            }),
            py::arg("scalar"))
+      .def(py::init(
+               [](const py::array_t<double, py::array::c_style | py::array::forcecast>& v) { return from_values(v); }),
+           py::arg("value"), "from 32 coefficients in blade order")
       .def_property(
           "value",
           [](py::object self) {

@@ -83,7 +83,7 @@ def test_versors_match_matrices():
     s = cga.sphere([0, 0, 1], 2.0)
     assert abs((cga.up([0, 0, 3]) | s).scalar()) < 1e-12
     p = cga.plane([0, 0, 2], 1.0)
-    assert abs((cga.up([5, -4, 1]) | p).scalar()) < 1e-12
+    assert abs((cga.up([5, -4, 0.5]) | p).scalar()) < 1e-12  # n·x = d with n normalised: z = 0.5
     with pytest.raises(cgamesh.InvalidInputError):
         cga.rotor([0, 0, 0], 1.0)
     with pytest.raises(cgamesh.InvalidInputError):
