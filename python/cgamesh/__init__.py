@@ -8,7 +8,7 @@ so results equal the CLI's). Arrays go in and out as numpy arrays:
 - surgery: :func:`cut`, :func:`tear`, :func:`drill` -> :class:`SurgeryResult`;
   :class:`LiveModel` for edits in place
 - deformation: :func:`deform`, :class:`Deformer` (the JSON spec of ``cgamesh deform``),
-  :func:`harmonic_field`
+  :func:`harmonic_field`, :class:`MotorBlend`, :func:`fabrik`, :func:`fit_bspline_motors`
 - :mod:`cgamesh.cga`: multivectors of G(4,1)
 
 Errors are raised as :class:`Error` and its subclasses :class:`InvalidInputError` (with
@@ -32,6 +32,7 @@ from ._cgamesh import (
     LiveModel,
     Mesh,
     Model,
+    MotorBlend,
     PlatformError,
     Pose,
     Skeleton,
@@ -42,6 +43,8 @@ from ._cgamesh import (
     cut,
     deform,
     drill,
+    fabrik,
+    fit_bspline_motors,
     harmonic_field,
     load,
     tear,
@@ -58,6 +61,7 @@ __all__ = [
     "LiveModel",
     "Mesh",
     "Model",
+    "MotorBlend",
     "PlatformError",
     "Pose",
     "Skeleton",
@@ -69,6 +73,8 @@ __all__ = [
     "cut",
     "deform",
     "drill",
+    "fabrik",
+    "fit_bspline_motors",
     "harmonic_field",
     "load",
     "tear",

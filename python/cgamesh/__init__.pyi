@@ -172,3 +172,17 @@ class HarmonicField:
 
 def harmonic_field(positions: ArrayLike, faces: ArrayLike, constrained: ArrayLike,
                    weights: str = "mean_value") -> HarmonicField: ...
+
+class MotorBlend:
+    def __init__(self, rest: ArrayLike, weights: ArrayLike, rest_keys: Sequence[cga.Multivector] | ArrayLike) -> None: ...
+    @property
+    def vertex_count(self) -> int: ...
+    @property
+    def key_count(self) -> int: ...
+    def deform(self, keys: Sequence[cga.Multivector] | ArrayLike) -> npt.NDArray[np.float32]: ...
+
+def fabrik(joints: ArrayLike, target: ArrayLike, tolerance: float = 1e-6, max_iterations: int = 100) -> dict[str, Any]:
+    """{'reached', 'iterations', 'distance', 'joints' #J×3, 'motors' #J×32}."""
+def fit_bspline_motors(keys: Sequence[cga.Multivector] | ArrayLike, parameters: Sequence[float], control_count: int,
+                       degree: int = 3) -> dict[str, Any]:
+    """{'control' #m×32, 'rms_residual', 'max_residual', 'used_svd'}."""

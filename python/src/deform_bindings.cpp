@@ -2,7 +2,10 @@
 // (deform/spec.hpp) and its building blocks.
 #include <memory>
 
+#include "cgamesh/deform/bspline_fit.hpp"
+#include "cgamesh/deform/fabrik.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
+#include "cgamesh/deform/motor_blend.hpp"
 #include "cgamesh/deform/spec.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
@@ -26,9 +29,8 @@ std::string spec_text(const py::handle& spec) {
   return py::module_::import("json").attr("dumps")(spec).cast<std::string>();
 }
 
-/// Key versors: None (the spec's), a list of cga.Multivector, or a #n×32 array of coefficients.
-std::vector<cga::Versor<double>> keys_of(const Deformer& d, const py::object& keys) {
-  if (keys.is_none()) return d.bound->keys();
+/// Versors from a list of cga.Multivector or a #n×32 array of coefficients (their even parts).
+std::vector<cga::Versor<double>> versor_list(const py::handle& keys) {
   std::vector<cga::Versor<double>> out;
   if (py::isinstance<py::array>(keys)) {
     const auto a = rows_of(keys, 32, "keys");
@@ -41,6 +43,29 @@ std::vector<cga::Versor<double>> keys_of(const Deformer& d, const py::object& ke
   }
   for (const py::handle k : keys) out.push_back(cga::project<cga::mask::versor>(k.cast<cga::Dense<double>>()));
   return out;
+}
+
+/// Versors as a #n×32 float64 array.
+py::array_t<double> versor_array(std::span<const cga::Versor<double>> versors) {
+  py::array_t<double> out({static_cast<py::ssize_t>(versors.size()), py::ssize_t{32}});
+  for (std::size_t i = 0; i < versors.size(); ++i) {
+    const cga::Dense<double> v(versors[i]);
+    for (std::size_t c = 0; c < 32; ++c) out.mutable_at(i, c) = v[c];
+  }
+  return out;
+}
+
+/// Key versors: None (the spec's), or as versor_list() takes them.
+std::vector<cga::Versor<double>> keys_of(const Deformer& d, const py::object& keys) {
+  if (keys.is_none()) return d.bound->keys();
+  return versor_list(keys);
+}
+
+/// #N×3 positions as float32 rows (the precision meshes store), N = rows unless −1.
+mesh::RowMatrixXf<3> float_rows(const py::handle& positions, const char* what, py::ssize_t rows = -1) {
+  const auto p = rows_of(positions, 3, what, rows);
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.shape(0), 3)
+      .cast<float>();
 }
 
 py::array_t<float> apply_keys(const Deformer& d, const py::object& keys) {
@@ -98,16 +123,7 @@ void add_deform(py::module_& m) {
           "free_vertices", [](const Deformer& d) { return int_array(d.bound->free_vertices()); },
           "int32 ids of the vertices in parts without a handle")
       .def_property_readonly(
-          "keys",
-          [](const Deformer& d) {
-            py::array_t<double> out({static_cast<py::ssize_t>(d.bound->keys().size()), py::ssize_t{32}});
-            out.attr("fill")(0.0);
-            for (std::size_t i = 0; i < d.bound->keys().size(); ++i) {
-              const cga::Dense<double> v(d.bound->keys()[i]);
-              for (std::size_t c = 0; c < 32; ++c) out.mutable_at(i, c) = v[c];
-            }
-            return out;
-          },
+          "keys", [](const Deformer& d) { return versor_array(d.bound->keys()); },
           "#n×32 float64 the spec's key versors (cgamesh.cga coefficient order)")
       .def("apply", &apply_keys, py::arg("keys") = py::none(),
            "One frame: #V×3 float32 deformed positions in `space`. keys: None (the spec's), a list of "
@@ -115,10 +131,7 @@ void add_deform(py::module_& m) {
       .def(
           "deformed_model",
           [](const Deformer& d, const py::handle& positions) {
-            const auto p = rows_of(positions, 3, "positions", d.bound->vertex_count());
-            mesh::RowMatrixXf<3> f =
-                Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.shape(0), 3)
-                    .cast<float>();
+            const mesh::RowMatrixXf<3> f = float_rows(positions, "positions", d.bound->vertex_count());
             return make_model(d.bound->deformed_model(d.model->model, f), d.model->file);
           },
           py::arg("positions"),
@@ -131,10 +144,7 @@ void add_deform(py::module_& m) {
               py::gil_scoped_release release;
               d.bound->apply(d.bound->keys(), deformed);
             } else {
-              const auto p = rows_of(positions, 3, "positions", d.bound->vertex_count());
-              deformed =
-                  Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(p.data(), p.shape(0), 3)
-                      .cast<float>();
+              deformed = float_rows(positions, "positions", d.bound->vertex_count());
             }
             py::gil_scoped_release release;
             std::string ext = std::filesystem::path(path).extension().string();
@@ -161,6 +171,78 @@ void add_deform(py::module_& m) {
       "Deforms mesh spec['mesh'] of `model` by a spec (dict or JSON text, as `cgamesh deform --spec` reads it) "
       "with the spec's keys: #V×3 float32 positions in the spec's space. Use Deformer to apply other keys or to "
       "save. Releases the GIL.");
+
+  py::class_<deform::MotorBlend>(m, "MotorBlend",
+                                 "Blends key versors per vertex (paper eq. 2): p_i = M_i p'_i ~M_i, M_i = exp(Σ_j "
+                                 "w_ij log K_j).")
+      .def(py::init([](const py::handle& rest, const py::handle& weights, const py::handle& rest_keys) {
+             const mesh::RowMatrixXf<3> r = float_rows(rest, "rest");
+             const auto w = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(weights);
+             if (!w || w.ndim() != 2 || w.shape(0) != r.rows())
+               throw InvalidInputError("weights: expected a #V×n array, one row per rest position");
+             deform::WeightMatrix wm = Eigen::Map<const deform::WeightMatrix>(w.data(), w.shape(0), w.shape(1));
+             const std::vector<cga::Versor<double>> k = versor_list(rest_keys);
+             py::gil_scoped_release release;
+             return deform::MotorBlend(r, std::move(wm), k);
+           }),
+           py::arg("rest"), py::arg("weights"), py::arg("rest_keys"),
+           "Binds rest positions #V×3 with weights #V×n to the n rest key versors (list of cga.Multivector or "
+           "#n×32).")
+      .def_property_readonly("vertex_count", &deform::MotorBlend::vertex_count)
+      .def_property_readonly("key_count", &deform::MotorBlend::key_count)
+      .def(
+          "deform",
+          [](const deform::MotorBlend& b, const py::handle& keys) {
+            const std::vector<cga::Versor<double>> k = versor_list(keys);
+            mesh::RowMatrixXf<3> out;
+            {
+              py::gil_scoped_release release;
+              b.deform(k, out);
+            }
+            return adopt_rows<3>(std::move(out));
+          },
+          py::arg("keys"), "One frame for the n posed key versors: #V×3 float32. Releases the GIL.");
+
+  m.def(
+      "fabrik",
+      [](const py::handle& joints, const py::handle& target, double tolerance, int max_iterations) {
+        const auto j = rows_of(joints, 3, "joints");
+        std::vector<Eigen::Vector3d> chain;
+        for (py::ssize_t i = 0; i < j.shape(0); ++i) chain.emplace_back(j.at(i, 0), j.at(i, 1), j.at(i, 2));
+        const deform::FabrikResult r = deform::fabrik(chain, vector3(target, "target"),
+                                                      {.tolerance = tolerance, .max_iterations = max_iterations});
+        py::array_t<double> solved({static_cast<py::ssize_t>(r.joints.size()), py::ssize_t{3}});
+        for (std::size_t i = 0; i < r.joints.size(); ++i)
+          for (int c = 0; c < 3; ++c) solved.mutable_at(i, c) = r.joints[i][c];
+        std::vector<cga::Versor<double>> motors(r.motors.begin(), r.motors.end());
+        py::dict out;
+        out["reached"] = r.reached;
+        out["iterations"] = r.iterations;
+        out["distance"] = r.distance;
+        out["joints"] = solved;
+        out["motors"] = versor_array(motors);
+        return out;
+      },
+      py::arg("joints"), py::arg("target"), py::arg("tolerance") = 1e-6, py::arg("max_iterations") = 100,
+      "FABRIK inverse kinematics (paper III.C) of the chain joints #J×3 (root first) towards target: {'reached', "
+      "'iterations', 'distance', 'joints' #J×3 solved positions, 'motors' #J×32 motors from the rest chain}.");
+
+  m.def(
+      "fit_bspline_motors",
+      [](const py::handle& keys, const py::handle& parameters, std::size_t control_count, int degree) {
+        const std::vector<cga::Versor<double>> k = versor_list(keys);
+        const std::vector<double> t = parameters.cast<std::vector<double>>();
+        const deform::BsplineFit f = deform::fit_bspline_motors(k, t, control_count, {.degree = degree});
+        py::dict out;
+        out["control"] = versor_array(f.control);
+        out["rms_residual"] = f.rms_residual;
+        out["max_residual"] = f.max_residual;
+        out["used_svd"] = f.used_svd;
+        return out;
+      },
+      py::arg("keys"), py::arg("parameters"), py::arg("control_count"), py::arg("degree") = 3,
+      "Least-squares B-spline fit (paper eqs. 3-5) of control versors to key versors at parameters in [0, 1]: "
+      "{'control' #m×32, 'rms_residual', 'max_residual', 'used_svd'}.");
 
   struct HarmonicField {
     std::shared_ptr<deform::HarmonicPrecomputation> pre;
@@ -197,15 +279,12 @@ void add_deform(py::module_& m) {
       "harmonic_field",
       [](const py::handle& positions, const py::handle& faces, const py::handle& constrained,
          const std::string& weights) {
-        const auto v = rows_of(positions, 3, "positions");
         const auto f = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(faces);
         if (!f || f.ndim() != 2 || f.shape(1) != 3) throw InvalidInputError("faces: expected a #F×3 integer array");
         const auto c = py::array_t<int, py::array::c_style | py::array::forcecast>::ensure(constrained);
         if (!c || c.ndim() != 1) throw InvalidInputError("constrained: expected a 1-D array of vertex ids");
         mesh::Mesh me;
-        me.positions =
-            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(v.data(), v.shape(0), 3)
-                .cast<float>();
+        me.positions = float_rows(positions, "positions");
         me.faces = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), f.shape(0), 3);
         deform::HarmonicOptions options;
         if (weights == "mean_value")

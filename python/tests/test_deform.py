@@ -90,3 +90,48 @@ def test_harmonic_field(cesium):
         h.solve(np.zeros(3))
     with pytest.raises(cgamesh.InvalidInputError):
         cgamesh.harmonic_field(v, f, [])
+
+
+def test_motor_blend():
+    rest = np.random.default_rng(1).normal(size=(50, 3))
+    weights = np.zeros((50, 2))
+    weights[:25, 0] = 1
+    weights[25:, 1] = 1
+    identity = cga.Multivector(1.0)
+    blend = cgamesh.MotorBlend(rest, weights, [identity, identity])
+    assert blend.vertex_count == 50 and blend.key_count == 2
+    t, r = cga.translator([0.5, 0, 0]), cga.rotor([0, 0, 1], 0.4)
+    out = blend.deform([t, r])
+    assert out.dtype == np.float32 and out.shape == (50, 3)
+    np.testing.assert_allclose(out[:25], rest[:25] + [0.5, 0, 0], atol=1e-5)
+    np.testing.assert_allclose(out[25:], cga.down(cga.sandwich(r, cga.up(rest[25:]))), atol=1e-5)
+    np.testing.assert_array_equal(out, blend.deform(np.stack([t.value, r.value])))
+    with pytest.raises(cgamesh.InvalidInputError):
+        blend.deform([t])
+
+
+def test_fabrik():
+    chain = np.array([[0, 0, 0], [0, 1, 0], [0, 2, 0]], dtype=float)
+    r = cgamesh.fabrik(chain, [1, 1, 0])
+    assert r["reached"] and r["distance"] < 1e-6
+    j = r["joints"]
+    np.testing.assert_allclose(j[0], chain[0], atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(np.diff(j, axis=0), axis=1), [1, 1], atol=1e-9)
+    # Each motor takes its rest joint to the solved one.
+    for i in range(3):
+        m = cga.Multivector(r["motors"][i])
+        np.testing.assert_allclose(cga.down(cga.sandwich(m, cga.up(chain[i]))), j[i], atol=1e-9)
+    far = cgamesh.fabrik(chain, [0, 10, 0])
+    assert not far["reached"] and far["distance"] == pytest.approx(8)
+    with pytest.raises(cgamesh.InvalidInputError):
+        cgamesh.fabrik(chain[:1], [1, 1, 0])
+
+
+def test_fit_bspline_motors():
+    t = np.linspace(0, 1, 9)
+    keys = [cga.translator([0, 0, s]) * cga.rotor([0, 0, 1], s) for s in t]  # a screw along z
+    fit = cgamesh.fit_bspline_motors(keys, t, 4)
+    assert fit["control"].shape == (4, 32)
+    assert fit["rms_residual"] < 1e-9 and fit["max_residual"] < 1e-9  # logs linear in t: fitted exactly
+    with pytest.raises(cgamesh.InvalidInputError):
+        cgamesh.fit_bspline_motors(keys, t[:3], 4)
