@@ -140,6 +140,25 @@ py::list skin_list(const anim::RiggedModel& model, const anim::Pose& pose, const
   return out;
 }
 
+/// A property giving a read-only view (no copy) of the matrix `get` picks from a Mesh.
+template <class Get>
+auto matrix_view(Get get) {
+  return [get](py::object self) {
+    const auto& a = get(self.cast<const mesh::Mesh&>());
+    return view(a.data(), {a.rows(), a.cols()}, self);
+  };
+}
+
+/// Per transform, the N numbers `get` picks (translation, rotation coefficients x y z w, scale),
+/// as a #J×N float64 array.
+template <int N, class Get>
+py::array_t<double> transform_rows(std::span<const anim::Transform> transforms, Get get) {
+  py::array_t<double> out({static_cast<py::ssize_t>(transforms.size()), py::ssize_t{N}});
+  for (std::size_t j = 0; j < transforms.size(); ++j)
+    for (int c = 0; c < N; ++c) out.mutable_at(j, c) = get(transforms[j])[c];
+  return out;
+}
+
 }  // namespace
 
 void add_model(py::module_& m) {
@@ -147,48 +166,19 @@ void add_model(py::module_& m) {
                          "One triangle mesh of a Model. Its arrays are read-only views of the model's memory (no "
                          "copy); they keep the model alive.")
       .def_property_readonly("name", [](const mesh::Mesh& me) { return me.name; })
-      .def_property_readonly(
-          "positions",
-          [](py::object self) {
-            const auto& me = self.cast<const mesh::Mesh&>();
-            return view(me.positions.data(), {me.positions.rows(), 3}, self);
-          },
-          "#V×3 float32 rest (bind-pose) positions in mesh space")
-      .def_property_readonly(
-          "normals",
-          [](py::object self) {
-            const auto& me = self.cast<const mesh::Mesh&>();
-            return view(me.normals.data(), {me.normals.rows(), 3}, self);
-          },
-          "#V×3 float32 unit normals (0×3 when the file has none)")
-      .def_property_readonly(
-          "uvs",
-          [](py::object self) {
-            const auto& me = self.cast<const mesh::Mesh&>();
-            return view(me.uvs.data(), {me.uvs.rows(), 2}, self);
-          },
-          "#V×2 float32 texture coordinates (0×2 when none)")
-      .def_property_readonly(
-          "faces",
-          [](py::object self) {
-            const auto& me = self.cast<const mesh::Mesh&>();
-            return view(me.faces.data(), {me.faces.rows(), 3}, self);
-          },
-          "#F×3 int32 vertex indices")
-      .def_property_readonly(
-          "joints",
-          [](py::object self) {
-            const auto& me = self.cast<const mesh::Mesh&>();
-            return view(me.skin.joints.data(), {me.skin.joints.rows(), 4}, self);
-          },
-          "#V×4 uint16 skin joints, indices into `palette` (0×4 for a static mesh)")
-      .def_property_readonly(
-          "weights",
-          [](py::object self) {
-            const auto& me = self.cast<const mesh::Mesh&>();
-            return view(me.skin.weights.data(), {me.skin.weights.rows(), 4}, self);
-          },
-          "#V×4 float32 skin weights, rows sum to 1 (0×4 for a static mesh)")
+      .def_property_readonly("positions", matrix_view([](const mesh::Mesh& me) -> const auto& { return me.positions; }),
+                             "#V×3 float32 rest (bind-pose) positions in mesh space")
+      .def_property_readonly("normals", matrix_view([](const mesh::Mesh& me) -> const auto& { return me.normals; }),
+                             "#V×3 float32 unit normals (0×3 when the file has none)")
+      .def_property_readonly("uvs", matrix_view([](const mesh::Mesh& me) -> const auto& { return me.uvs; }),
+                             "#V×2 float32 texture coordinates (0×2 when none)")
+      .def_property_readonly("faces", matrix_view([](const mesh::Mesh& me) -> const auto& { return me.faces; }),
+                             "#F×3 int32 vertex indices")
+      .def_property_readonly("joints", matrix_view([](const mesh::Mesh& me) -> const auto& { return me.skin.joints; }),
+                             "#V×4 uint16 skin joints, indices into `palette` (0×4 for a static mesh)")
+      .def_property_readonly("weights",
+                             matrix_view([](const mesh::Mesh& me) -> const auto& { return me.skin.weights; }),
+                             "#V×4 float32 skin weights, rows sum to 1 (0×4 for a static mesh)")
       .def_property_readonly(
           "palette", [](const mesh::Mesh& me) { return int_array(me.skin.palette); },
           "#J int32 skeleton joint of each palette entry (a copy)")
@@ -209,29 +199,19 @@ void add_model(py::module_& m) {
       .def_property_readonly(
           "rest_translations",
           [](const anim::Skeleton& s) {
-            py::array_t<double> out({py::ssize_t{s.size()}, py::ssize_t{3}});
-            for (int j = 0; j < s.size(); ++j)
-              for (int c = 0; c < 3; ++c) out.mutable_at(j, c) = s.rest()[static_cast<std::size_t>(j)].translation[c];
-            return out;
+            return transform_rows<3>(s.rest(), [](const anim::Transform& t) { return t.translation; });
           },
           "#J×3 float64 local rest translations")
       .def_property_readonly(
           "rest_rotations",
           [](const anim::Skeleton& s) {
-            py::array_t<double> out({py::ssize_t{s.size()}, py::ssize_t{4}});
-            for (int j = 0; j < s.size(); ++j)
-              for (int c = 0; c < 4; ++c)
-                out.mutable_at(j, c) = s.rest()[static_cast<std::size_t>(j)].rotation.coeffs()[c];
-            return out;
+            return transform_rows<4>(s.rest(), [](const anim::Transform& t) { return t.rotation.coeffs(); });
           },
           "#J×4 float64 local rest rotations as quaternions (x, y, z, w), as glTF stores them")
       .def_property_readonly(
           "rest_scales",
           [](const anim::Skeleton& s) {
-            py::array_t<double> out({py::ssize_t{s.size()}, py::ssize_t{3}});
-            for (int j = 0; j < s.size(); ++j)
-              for (int c = 0; c < 3; ++c) out.mutable_at(j, c) = s.rest()[static_cast<std::size_t>(j)].scale[c];
-            return out;
+            return transform_rows<3>(s.rest(), [](const anim::Transform& t) { return t.scale; });
           },
           "#J×3 float64 local rest scales")
       .def("find", &anim::Skeleton::find, py::arg("name"), "index of the joint named `name`, or -1")
@@ -250,28 +230,19 @@ void add_model(py::module_& m) {
       .def_property_readonly(
           "translations",
           [](const anim::Pose& p) {
-            py::array_t<double> out({static_cast<py::ssize_t>(p.local.size()), py::ssize_t{3}});
-            for (std::size_t j = 0; j < p.local.size(); ++j)
-              for (int c = 0; c < 3; ++c) out.mutable_at(j, c) = p.local[j].translation[c];
-            return out;
+            return transform_rows<3>(p.local, [](const anim::Transform& t) { return t.translation; });
           },
           "#J×3 float64 local translations")
       .def_property_readonly(
           "rotations",
           [](const anim::Pose& p) {
-            py::array_t<double> out({static_cast<py::ssize_t>(p.local.size()), py::ssize_t{4}});
-            for (std::size_t j = 0; j < p.local.size(); ++j)
-              for (int c = 0; c < 4; ++c) out.mutable_at(j, c) = p.local[j].rotation.coeffs()[c];
-            return out;
+            return transform_rows<4>(p.local, [](const anim::Transform& t) { return t.rotation.coeffs(); });
           },
           "#J×4 float64 local rotations (x, y, z, w)")
       .def_property_readonly(
           "scales",
           [](const anim::Pose& p) {
-            py::array_t<double> out({static_cast<py::ssize_t>(p.local.size()), py::ssize_t{3}});
-            for (std::size_t j = 0; j < p.local.size(); ++j)
-              for (int c = 0; c < 3; ++c) out.mutable_at(j, c) = p.local[j].scale[c];
-            return out;
+            return transform_rows<3>(p.local, [](const anim::Transform& t) { return t.scale; });
           },
           "#J×3 float64 local scales")
       .def("__len__", [](const anim::Pose& p) { return p.local.size(); });

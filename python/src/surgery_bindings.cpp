@@ -74,6 +74,58 @@ void copy_origins(std::vector<std::vector<mesh::VertexSource>>& out, const anim:
   }
 }
 
+/// Options of a tool with the choices every tool takes.
+template <class Options>
+Options tool_options(const std::string& rest, const std::string& predicates) {
+  Options o;
+  o.rest = rest_of(rest);
+  o.predicates = predicates_of(predicates);
+  return o;
+}
+
+/// The counts of a cut, as the CLI's --json reports them (faces_out: the caller's).
+py::dict cut_stats(const surgery::CutStats& c) {
+  py::dict d;
+  d["new_vertices"] = c.new_vertices;
+  d["intersection_points"] = c.intersection_points;
+  d["faces_in"] = c.faces_in;
+  d["faces_split"] = c.faces_split;
+  d["cap_triangles"] = c.cap_triangles;
+  d["warnings"] = c.warnings;
+  return d;
+}
+
+/// The counts and path (#P×3 float64) of a tear.
+py::dict tear_stats(const surgery::TearStats& t) {
+  py::array_t<double> path({static_cast<py::ssize_t>(t.path.size()), py::ssize_t{3}});
+  for (std::size_t i = 0; i < t.path.size(); ++i)
+    for (int c = 0; c < 3; ++c) path.mutable_at(i, c) = t.path[i][c];
+  py::dict d;
+  d["new_vertices"] = t.new_vertices;
+  d["intersection_points"] = t.intersection_points;
+  d["faces_in"] = t.faces_in;
+  d["faces_out"] = t.faces_out;
+  d["faces_split"] = t.faces_split;
+  d["path"] = path;
+  d["warnings"] = t.warnings;
+  return d;
+}
+
+py::dict drill_stats(const surgery::DrillStats& r) {
+  py::dict d;
+  d["new_vertices"] = r.new_vertices;
+  d["intersection_points"] = r.intersection_points;
+  d["faces_in"] = r.faces_in;
+  d["faces_out"] = r.faces_out;
+  d["faces_removed"] = r.faces_removed;
+  d["faces_affected"] = r.faces_affected;
+  d["refinements"] = r.refinements;
+  d["rims"] = r.rims;
+  d["wall_triangles"] = r.wall_triangles;
+  d["warnings"] = r.warnings;
+  return d;
+}
+
 const char* kCommonOptions =
     " pose: a Pose (Model.pose()) the tool is placed against, or None for the bind pose; rest: 'exact' or "
     "'parametric' rest positions of new vertices; predicates: 'cga' or 'euclidean' (same result). Releases the GIL.";
@@ -125,25 +177,17 @@ void add_surgery(py::module_& m) {
       [](const Model& model, const py::handle& plane, const py::object& pose, bool cap, bool own_side_influences,
          const std::string& rest, const std::string& predicates) {
         const cga::Vector<double> pi = plane_of(plane);
-        surgery::CutOptions options;
+        auto options = tool_options<surgery::CutOptions>(rest, predicates);
         options.cap = cap;
         options.own_side_influences = own_side_influences;
-        options.rest = rest_of(rest);
-        options.predicates = predicates_of(predicates);
         const anim::Pose p = pose_or_bind(model.model, pose);
         surgery::ModelCut c;
         {
           py::gil_scoped_release release;
           c = surgery::cut(model.model, surgery::place(model.model, p), pi, options);
         }
-        py::dict stats;
-        stats["new_vertices"] = c.new_vertices;
-        stats["intersection_points"] = c.intersection_points;
-        stats["faces_in"] = c.faces_in;
+        py::dict stats = cut_stats(c);
         stats["faces_out"] = py::make_tuple(c.faces_out[0], c.faces_out[1]);
-        stats["faces_split"] = c.faces_split;
-        stats["cap_triangles"] = c.cap_triangles;
-        stats["warnings"] = c.warnings;
         std::array<SurgeryResult, 2> out;
         for (std::size_t k = 0; k < 2; ++k) {
           out[k].model = make_model(std::move(c.pieces[k]));
@@ -167,11 +211,9 @@ void add_surgery(py::module_& m) {
       [](const Model& model, const py::handle& scalpel_steps, const py::object& pose, double open,
          bool own_side_influences, const std::string& rest, const std::string& predicates) {
         const std::vector<surgery::Scalpel> steps = scalpel_of(scalpel_steps);
-        surgery::TearOptions options;
+        auto options = tool_options<surgery::TearOptions>(rest, predicates);
         options.open = open;
         options.own_side_influences = own_side_influences;
-        options.rest = rest_of(rest);
-        options.predicates = predicates_of(predicates);
         const anim::Pose p = pose_or_bind(model.model, pose);
         surgery::ModelTear t;
         surgery::Placement placement;
@@ -186,20 +228,11 @@ void add_surgery(py::module_& m) {
         r.origins[static_cast<std::size_t>(t.mesh)] = std::move(t.origins);
         r.placed = std::move(placement.positions);
         r.placed[static_cast<std::size_t>(t.mesh)] = std::move(t.placed);
-        py::array_t<double> path({static_cast<py::ssize_t>(t.path.size()), py::ssize_t{3}});
-        for (std::size_t i = 0; i < t.path.size(); ++i)
-          for (int c = 0; c < 3; ++c) path.mutable_at(i, c) = t.path[i][c];
         py::array_t<std::int8_t> side(static_cast<py::ssize_t>(t.side.size()));
         std::copy(t.side.begin(), t.side.end(), side.mutable_data());
+        r.stats = tear_stats(t);
         r.stats["mesh"] = t.mesh;
-        r.stats["new_vertices"] = t.new_vertices;
-        r.stats["intersection_points"] = t.intersection_points;
-        r.stats["faces_in"] = t.faces_in;
-        r.stats["faces_out"] = t.faces_out;
-        r.stats["faces_split"] = t.faces_split;
-        r.stats["path"] = path;
         r.stats["side"] = side;
-        r.stats["warnings"] = t.warnings;
         r.model = make_model(std::move(t.model));
         return r;
       },
@@ -217,13 +250,11 @@ void add_surgery(py::module_& m) {
          bool wall, int min_rim_points, int max_refinements, int max_region_faces, const std::string& rest,
          const std::string& predicates) {
         const Eigen::Vector3d a = vector3(tip, "tip"), b = vector3(base, "base");
-        surgery::DrillOptions options;
+        auto options = tool_options<surgery::DrillOptions>(rest, predicates);
         options.wall = wall;
         options.min_rim_points = min_rim_points;
         options.max_refinements = max_refinements;
         options.max_region_faces = max_region_faces;
-        options.rest = rest_of(rest);
-        options.predicates = predicates_of(predicates);
         const anim::Pose p = pose_or_bind(model.model, pose);
         surgery::ModelDrill d;
         {
@@ -235,16 +266,7 @@ void add_surgery(py::module_& m) {
         r.source_mesh = std::move(d.source_mesh);
         r.origins = std::move(d.origins);
         r.placed = std::move(d.placed);
-        r.stats["new_vertices"] = d.new_vertices;
-        r.stats["intersection_points"] = d.intersection_points;
-        r.stats["faces_in"] = d.faces_in;
-        r.stats["faces_out"] = d.faces_out;
-        r.stats["faces_removed"] = d.faces_removed;
-        r.stats["faces_affected"] = d.faces_affected;
-        r.stats["refinements"] = d.refinements;
-        r.stats["rims"] = d.rims;
-        r.stats["wall_triangles"] = d.wall_triangles;
-        r.stats["warnings"] = d.warnings;
+        r.stats = drill_stats(d);
         r.model = make_model(std::move(d.model));
         return r;
       },
@@ -284,16 +306,14 @@ void add_surgery(py::module_& m) {
           [](surgery::LiveModel& l, const py::handle& plane, bool own_side_influences, const std::string& rest,
              const std::string& predicates) {
             const cga::Vector<double> pi = plane_of(plane);
-            surgery::CutOptions options;
+            auto options = tool_options<surgery::CutOptions>(rest, predicates);
             options.own_side_influences = own_side_influences;
-            options.rest = rest_of(rest);
-            options.predicates = predicates_of(predicates);
             surgery::LiveCut c;
             {
               py::gil_scoped_release release;
               c = surgery::cut(l, pi, options);
             }
-            py::dict out;
+            py::dict out = cut_stats(c);
             py::list changes, pieces;
             for (const auto& ch : c.changes) changes.append(change_dict(ch));
             for (const auto& p : c.piece_of_new_face) {
@@ -303,12 +323,7 @@ void add_surgery(py::module_& m) {
             }
             out["changes"] = changes;
             out["piece_of_new_face"] = pieces;
-            out["new_vertices"] = c.new_vertices;
-            out["intersection_points"] = c.intersection_points;
-            out["faces_in"] = c.faces_in;
             out["faces_out"] = c.faces_out;
-            out["faces_split"] = c.faces_split;
-            out["warnings"] = c.warnings;
             return out;
           },
           py::arg("plane"), py::arg("own_side_influences") = false, py::arg("rest") = "exact",
@@ -322,24 +337,16 @@ void add_surgery(py::module_& m) {
           [](surgery::LiveModel& l, const py::handle& scalpel_steps, double open, bool own_side_influences,
              const std::string& rest, const std::string& predicates) {
             const std::vector<surgery::Scalpel> steps = scalpel_of(scalpel_steps);
-            surgery::TearOptions options;
+            auto options = tool_options<surgery::TearOptions>(rest, predicates);
             options.open = open;
             options.own_side_influences = own_side_influences;
-            options.rest = rest_of(rest);
-            options.predicates = predicates_of(predicates);
             surgery::LiveTear t;
             {
               py::gil_scoped_release release;
               t = surgery::tear(l, steps, options);
             }
-            py::dict out;
+            py::dict out = tear_stats(t);
             out["changes"] = py::make_tuple(change_dict(t.change));
-            out["new_vertices"] = t.new_vertices;
-            out["intersection_points"] = t.intersection_points;
-            out["faces_in"] = t.faces_in;
-            out["faces_out"] = t.faces_out;
-            out["faces_split"] = t.faces_split;
-            out["warnings"] = t.warnings;
             return out;
           },
           py::arg("scalpel_steps"), py::arg("open") = 0.0, py::arg("own_side_influences") = false,
@@ -350,24 +357,17 @@ void add_surgery(py::module_& m) {
           [](surgery::LiveModel& l, const py::handle& tip, const py::handle& base, double radius, bool wall,
              const std::string& rest, const std::string& predicates) {
             const Eigen::Vector3d a = vector3(tip, "tip"), b = vector3(base, "base");
-            surgery::DrillOptions options;
+            auto options = tool_options<surgery::DrillOptions>(rest, predicates);
             options.wall = wall;
-            options.rest = rest_of(rest);
-            options.predicates = predicates_of(predicates);
             surgery::LiveDrill d;
             {
               py::gil_scoped_release release;
               d = surgery::drill(l, a, b, radius, options);
             }
-            py::dict out;
+            py::dict out = drill_stats(d);
             py::list changes;
             for (const auto& ch : d.changes) changes.append(change_dict(ch));
             out["changes"] = changes;
-            out["new_vertices"] = d.new_vertices;
-            out["faces_in"] = d.faces_in;
-            out["faces_out"] = d.faces_out;
-            out["rims"] = d.rims;
-            out["warnings"] = d.warnings;
             return out;
           },
           py::arg("tip"), py::arg("base"), py::arg("radius"), py::arg("wall") = false, py::arg("rest") = "exact",
