@@ -172,3 +172,18 @@ def test_write_error_leaves_nothing(tmp_path, cesium):
     finally:
         os.chmod(tmp_path, 0o700)
     assert list(pathlib.Path(tmp_path).iterdir()) == []
+
+
+def test_calls_from_threads_agree(cesium):
+    # skin and load release the GIL: concurrent calls run in parallel and give the same results.
+    from concurrent.futures import ThreadPoolExecutor
+
+    pose = cesium.pose(time=0.25)
+    expected = cesium.skin(pose)[0]
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(lambda _: cesium.skin(pose)[0], range(8)))
+        models = list(pool.map(lambda _: cgamesh.load(str(CESIUM)), range(4)))
+    for r in results:
+        np.testing.assert_array_equal(r, expected)
+    for m in models:
+        np.testing.assert_array_equal(m.meshes[0].positions, cesium.meshes[0].positions)
