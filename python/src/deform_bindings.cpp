@@ -78,9 +78,22 @@ py::array_t<float> apply_keys(const Deformer& d, const py::object& keys) {
   return adopt_rows<3>(std::move(out));
 }
 
-Deformer bind(const ModelPtr& model, const py::handle& spec) {
+/// A Model, or a Mesh as a model of that one static mesh (its skin dropped: mesh space).
+ModelPtr model_of(const py::handle& model_or_mesh) {
+  if (py::isinstance<Model>(model_or_mesh)) return model_or_mesh.cast<ModelPtr>();
+  anim::RiggedModel m;
+  m.meshes.push_back(model_or_mesh.cast<const mesh::Mesh&>());
+  m.meshes.back().skin = {};
+  m.meshes.back().node = -1;
+  m.meshes.back().material = -1;
+  m.meshes.back().face_materials.resize(0);
+  return make_model(std::move(m));
+}
+
+Deformer bind(const py::handle& model_or_mesh, const py::handle& spec) {
   Deformer d;
-  d.model = model;
+  d.model = model_of(model_or_mesh);
+  const ModelPtr& model = d.model;
   const std::string text = spec_text(spec);
   d.spec = deform::parse_spec(text, "spec");
   py::gil_scoped_release release;
@@ -95,7 +108,8 @@ void add_deform(py::module_& m) {
                        "A deformation spec (the JSON of `cgamesh deform`, README 'Deformation specs') bound to one "
                        "mesh of a model: the harmonic solve and blend weights done once; apply() per frame.")
       .def(py::init(&bind), py::arg("model"), py::arg("spec"),
-           "Parses `spec` (a dict, or JSON text) and binds it to the model (as `cgamesh deform` does). Raises "
+           "Parses `spec` (a dict, or JSON text) and binds it to the model (a Model, or a Mesh: a model of that "
+           "static mesh) (as `cgamesh deform` does). Raises "
            "InvalidInputError naming the spec's field. Releases the GIL while binding.")
       .def_property_readonly(
           "mesh", [](const Deformer& d) { return d.bound->mesh_index(); }, "index of the deformed mesh")
@@ -163,12 +177,13 @@ void add_deform(py::module_& m) {
 
   m.def(
       "deform",
-      [](const ModelPtr& model, const py::handle& spec) {
+      [](const py::handle& model, const py::handle& spec) {
         Deformer d = bind(model, spec);
         return apply_keys(d, py::none());
       },
       py::arg("model"), py::arg("spec"),
-      "Deforms mesh spec['mesh'] of `model` by a spec (dict or JSON text, as `cgamesh deform --spec` reads it) "
+      "Deforms mesh spec['mesh'] of `model` (a Model, or a Mesh: then in mesh space) by a spec (dict or JSON text, as "
+      "`cgamesh deform --spec` reads it) "
       "with the spec's keys: #V×3 float32 positions in the spec's space. Use Deformer to apply other keys or to "
       "save. Releases the GIL.");
 

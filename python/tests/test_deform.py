@@ -135,3 +135,11 @@ def test_fit_bspline_motors():
     assert fit["rms_residual"] < 1e-9 and fit["max_residual"] < 1e-9  # logs linear in t: fitted exactly
     with pytest.raises(cgamesh.InvalidInputError):
         cgamesh.fit_bspline_motors(keys, t[:3], 4)
+
+
+def test_deform_a_mesh(spot):
+    spec = {"method": "harmonic", "handles": [[0], [100]], "keys": [{}, {"translate": [0, 0.2, 0]}]}
+    from_mesh = cgamesh.deform(spot.meshes[0], spec)
+    np.testing.assert_array_equal(from_mesh, cgamesh.deform(spot, spec))
+    np.testing.assert_allclose(from_mesh[100], spot.meshes[0].positions[100] + [0, 0.2, 0], atol=1e-6)
+    np.testing.assert_array_equal(from_mesh[0], spot.meshes[0].positions[0])
