@@ -8,8 +8,9 @@ python="$1" source="$2" work="$3"
 rm -rf "$work"
 mkdir -p "$work"
 "$python" -m venv --system-site-packages "$work/venv"
-# Offline: no index, no build isolation (Debian's setuptools and wheel are used).
-PIP_NO_INDEX=1 "$work/venv/bin/python" -m pip install --no-build-isolation --no-deps --quiet "$source"
+# The README's command, offline: no index (numpy comes from the system site packages), no build
+# isolation (Debian's setuptools and wheel are used).
+PIP_NO_INDEX=1 "$work/venv/bin/python" -m pip install --no-build-isolation --quiet "$source"
 cd "$work"
 "$work/venv/bin/python" - "$source" <<'PY'
 import pathlib
