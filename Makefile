@@ -4,7 +4,7 @@ SAN_BUILD  ?= build-sanitize
 BENCH_BUILD ?= build-release
 JOBS       ?= $(shell nproc)
 
-.PHONY: all deps build test sanitize demo bench format clean
+.PHONY: all deps build python test sanitize demo bench format clean
 
 all: build
 
@@ -14,6 +14,14 @@ deps:
 build: deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo
 	cmake --build $(BUILD) -j $(JOBS)
+
+# The Python module (python/): the extension and the package cgamesh in $(BUILD)/python.
+python: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCGAMESH_BUILD_PYTHON=ON
+	cmake --build $(BUILD) -j $(JOBS) --target _cgamesh
+	@echo "cgamesh: built $(abspath $(BUILD))/python/cgamesh; use it with"
+	@echo "  PYTHONPATH=$(abspath $(BUILD))/python /usr/bin/python3 -c 'import cgamesh'"
+	@echo "or install it into a venv: python3 -m venv --system-site-packages .venv && .venv/bin/pip install --no-build-isolation ."
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)

@@ -19,6 +19,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
+#include "cgamesh/io/model_info.hpp"
 #include "cgamesh/io/model_loader.hpp"
 
 #include "cli_common.hpp"
@@ -30,21 +31,8 @@ using anim::BlendMode;
 using anim::SkinningMode;
 namespace fs = std::filesystem;
 
-Json vec_json(const Eigen::Vector3f& v) { return Json::array({v.x(), v.y(), v.z()}); }
-
-/// The box of the rows of some matrices (min > max when they have none).
-struct Box {
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
-  void add(const mesh::RowMatrixXf<3>& p) {
-    if (p.rows() == 0) return;
-    lo = lo.cwiseMin(p.colwise().minCoeff().transpose());
-    hi = hi.cwiseMax(p.colwise().maxCoeff().transpose());
-  }
-  [[nodiscard]] Json json() const { return {{"min", vec_json(lo)}, {"max", vec_json(hi)}}; }
-};
-
-std::ostream& operator<<(std::ostream& os, const Box& b) {
-  return os << "[" << b.lo.transpose() << "] - [" << b.hi.transpose() << "]";
+std::ostream& operator<<(std::ostream& os, const io::InfoBox& b) {
+  return os << "[" << b.min.transpose() << "] - [" << b.max.transpose() << "]";
 }
 
 // ---- info ----
@@ -56,74 +44,23 @@ struct InfoOptions {
 void run_info(const InfoOptions& o) {
   const anim::RiggedModel model = cli::load_model(o.model, false);
   const anim::Skeleton& sk = model.skeleton;
-  const auto rest = posed_positions(model, anim::rest_pose(sk), SkinningMode::matrix);
-  // Which meshes each joint skins.
-  std::vector<std::vector<int>> skins(static_cast<std::size_t>(sk.size()));
-  for (std::size_t i = 0; i < model.meshes.size(); ++i)
-    for (const int j : model.meshes[i].skin.palette)
-      if (j >= 0 && j < sk.size()) skins[static_cast<std::size_t>(j)].push_back(static_cast<int>(i));
-  const auto skinned_joints = std::count_if(skins.begin(), skins.end(), [](const auto& m) { return !m.empty(); });
-
-  Box world;
-  Json meshes = Json::array();
-  long vertices = 0, triangles = 0;
-  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    const mesh::Mesh& m = model.meshes[i];
-    vertices += m.vertex_count();
-    triangles += m.face_count();
-    Box own, space;
-    own.add(rest[i]);
-    space.add(m.positions);
-    world.add(rest[i]);
-    meshes.push_back({{"name", m.name},
-                      {"vertices", m.vertex_count()},
-                      {"triangles", m.face_count()},
-                      {"skinned", !m.skin.empty()},
-                      {"joints", m.skin.palette.size()},
-                      {"bounding_box", own.json()},
-                      {"bounding_box_mesh_space", space.json()}});
-  }
-  Json skeleton = Json::array();
-  for (int j = 0; j < sk.size(); ++j) {
-    const int p = sk.parents()[j];
-    skeleton.push_back({{"index", j},
-                        {"name", sk.names()[j]},
-                        {"parent", p},
-                        {"parent_name", p < 0 ? Json(nullptr) : Json(sk.names()[p])},
-                        {"skins", skins[static_cast<std::size_t>(j)]}});
-  }
-  Json clips = Json::array();
-  for (std::size_t c = 0; c < model.clips.size(); ++c)
-    clips.push_back({{"index", c}, {"name", model.clips[c].name}, {"duration", model.clips[c].duration}});
-  const Json out = {{"file", o.model},
-                    {"pose", {{"kind", "bind"}}},
-                    {"meshes", meshes},
-                    {"vertices", vertices},
-                    {"triangles", triangles},
-                    {"nodes", sk.size()},
-                    {"skinned_joints", skinned_joints},
-                    {"skeleton", skeleton},
-                    {"animations", clips},
-                    {"max_influences", model.source_max_influences},
-                    {"bounding_box", world.json()},
-                    {"warnings", model.warnings}};
+  const io::ModelInfo info = io::model_info(model);
   if (o.json) {
-    std::cout << dump_json(out) << "\n";
+    std::cout << io::model_info_json(model, info, o.model) << "\n";
     return;
   }
   std::cout << o.model << " (boxes in the bind pose, world space)\n  meshes: " << model.meshes.size() << " ("
-            << vertices << " vertices, " << triangles << " triangles)\n";
+            << info.vertices << " vertices, " << info.triangles << " triangles)\n";
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
-    Box own, space;
-    own.add(rest[i]);
-    space.add(m.positions);
     std::cout << "    " << i << " " << m.name << ": " << m.vertex_count() << " vertices, " << m.face_count()
               << " triangles"
               << (m.skin.empty() ? std::string() : ", skinned to " + std::to_string(m.skin.palette.size()) + " joints")
-              << "\n      box " << own << "\n      mesh-space box " << space << "\n";
+              << "\n      box " << info.meshes[i].box << "\n      mesh-space box " << info.meshes[i].box_mesh_space
+              << "\n";
   }
-  std::cout << "  nodes: " << sk.size() << " (" << skinned_joints << " skin joints)\n";
+  std::cout << "  nodes: " << sk.size() << " (" << info.skinned_joints << " skin joints)\n";
+  const auto& skins = info.skins;
   std::vector<std::vector<int>> children(static_cast<std::size_t>(sk.size()));
   std::vector<int> roots;
   for (int j = 0; j < sk.size(); ++j)
@@ -140,7 +77,8 @@ void run_info(const InfoOptions& o) {
   std::cout << "  animations: " << model.clips.size() << "\n";
   for (std::size_t c = 0; c < model.clips.size(); ++c)
     std::cout << "    " << c << " " << model.clips[c].name << ": " << model.clips[c].duration << " s\n";
-  std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: " << world << "\n";
+  std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: " << info.box
+            << "\n";
   for (const auto& w : model.warnings) std::cout << "  warning: " << w << "\n";
 }
 

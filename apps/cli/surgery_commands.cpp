@@ -145,13 +145,12 @@ struct CutCommand : SurgeryCommand {
   void run() {
     check(outputs, "cut");
     const auto p = parse_numbers(plane, 4, "--plane");
-    // Any length is a direction: scaled first, so that 1e308 does not overflow its norm.
-    const double largest = Eigen::Vector3d(p[0], p[1], p[2]).cwiseAbs().maxCoeff();
-    if (!(largest > 0)) throw InvalidInputError("--plane: the normal NX,NY,NZ is the zero vector");
-    const Eigen::Vector3d n = Eigen::Vector3d(p[0], p[1], p[2]) / largest;
-    const double d = p[3] / largest;
-    if (!std::isfinite(d)) throw InvalidInputError("--plane: the offset D is too large for this normal");
-    const cga::Vector<double> pi = cga::plane(n, d);
+    cga::Vector<double> pi;
+    try {
+      pi = surgery::cut_plane({p[0], p[1], p[2]}, p[3]);
+    } catch (const Error&) {
+      rethrow_with_context("--plane: ");
+    }
     const Scene scene = load(false);
     options.predicates = predicates();
     options.rest = rest();

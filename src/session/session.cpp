@@ -254,11 +254,12 @@ std::string rest_argument(surgery::RestPosition rest) {
 }  // namespace
 
 OperationReport Session::cut(const Eigen::Vector3d& normal, double d, const surgery::CutOptions& options) {
-  if (!normal.allFinite() || !std::isfinite(d)) throw InvalidInputError("cut: the plane must be finite");
-  // Any length is a direction: scaled first, as the command line does.
-  const double largest = normal.cwiseAbs().maxCoeff();
-  if (!(largest > 0)) throw InvalidInputError("cut: the plane's normal is the zero vector");
-  const cga::Vector<double> plane = cga::plane(Eigen::Vector3d(normal / largest), d / largest);
+  cga::Vector<double> plane;
+  try {
+    plane = surgery::cut_plane(normal, d);
+  } catch (const Error&) {
+    rethrow_with_context("cut: ");
+  }
   return operate([&](OperationReport& r) {
     r.kind = "cut";
     r.command = "cut MODEL" + pose_arguments() + " --plane " + exact({normal.x(), normal.y(), normal.z(), d}) +

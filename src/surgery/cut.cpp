@@ -463,6 +463,16 @@ MeshCut cut_mesh(const mesh::Mesh& mesh, const RowMatrixXf<3>& placed, const cga
   return Cutter(mesh, placed, plane, options, palette, cap_material).run();
 }
 
+cga::Vector<double> cut_plane(const Eigen::Vector3d& normal, double d) {
+  if (!normal.allFinite() || !std::isfinite(d)) throw InvalidInputError("the plane must be finite");
+  // Any length is a direction: scaled first, so that 1e308 does not overflow its norm.
+  const double largest = normal.cwiseAbs().maxCoeff();
+  if (!(largest > 0)) throw InvalidInputError("the plane's normal NX,NY,NZ is the zero vector");
+  const double offset = d / largest;
+  if (!std::isfinite(offset)) throw InvalidInputError("the plane's offset D is too large for its normal");
+  return cga::plane(Eigen::Vector3d(normal / largest), offset);
+}
+
 ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const cga::Vector<double>& plane,
              const CutOptions& options) {
   require_placement_fits(model, placement);

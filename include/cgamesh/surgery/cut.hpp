@@ -91,6 +91,13 @@ struct LiveCut : CutStats {
   int faces_out = 0;
 };
 
+/// The plane n·x = d as a CGA plane Π = n + d e∞ (cga::plane), for any length of n: n and d are
+/// first divided by n's largest component, so that huge values do not overflow n's norm. Piece 0
+/// of a cut is the side n·x > d. The CLI's --plane, viewer sessions and Python all read a plane so.
+/// @throws InvalidInputError for a NaN or infinite value, a zero normal, or an offset too large
+///         for its normal.
+[[nodiscard]] cga::Vector<double> cut_plane(const Eigen::Vector3d& normal, double d);
+
 /// Cuts every mesh of `model`, placed in `placement` (see place()).
 /// @throws InvalidInputError as cut_mesh, or when the placement does not fit the model.
 /// @throws TopologyError when the plane misses the model (one piece would be empty).
