@@ -696,30 +696,30 @@ Eigen::Matrix<float, N, 1> CageDeformation::contract(
   return sum;
 }
 
-template <class Move>
-void CageDeformation::frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Move&& move) const {
+template <class Job>
+void CageDeformation::frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Job&& job) const {
   if (static_cast<Eigen::Index>(count) != cage_.rows())
     throw InvalidInputError("cage: " + std::to_string(count) + " " + what + " given for a cage of " +
                             std::to_string(cage_.rows()) + " vertices");
   out.resize(rest_.rows(), 3);
-  detail::parallel_for(rest_.rows(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
-    for (Eigen::Index i = begin; i < end; ++i) out.row(i) = move(i);
-  });
+  detail::parallel_for(rest_.rows(), threads_, job);
 }
 
 void CageDeformation::deform_points(std::span<const Eigen::Vector3d> points, mesh::RowMatrixXf<3>& out) const {
   Eigen::Matrix<float, 3, Eigen::Dynamic> displacement(3, cage_.rows());
   for (Eigen::Index c = 0; c < cage_.rows() && c < static_cast<Eigen::Index>(points.size()); ++c)
     displacement.col(c) = (points[static_cast<std::size_t>(c)] - cage_.row(c).transpose()).cast<float>();
-  frame(points.size(), "cage vertices", out,
-        [&](Eigen::Index i) -> Eigen::RowVector3f { return rest_.row(i) + contract(i, displacement).transpose(); });
+  frame(points.size(), "cage vertices", out, [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index i = begin; i < end; ++i) out.row(i) = rest_.row(i) + contract(i, displacement).transpose();
+  });
 }
 
 void CageDeformation::deform_motors(std::span<const cga::Versor<double>> motors, mesh::RowMatrixXf<3>& out) const {
   Eigen::Matrix<float, detail::kGeneratorSize, Eigen::Dynamic> logs;
   if (static_cast<Eigen::Index>(motors.size()) == cage_.rows()) detail::fill_log_table(motors, logs);
-  frame(motors.size(), "cage vertex motors", out,
-        [&](Eigen::Index i) -> Eigen::RowVector3f { return detail::exp_apply(contract(i, logs), rest_.row(i)); });
+  frame(motors.size(), "cage vertex motors", out, [&](Eigen::Index begin, Eigen::Index end) {
+    detail::exp_apply_range(rest_, begin, end, out, [&](Eigen::Index i) { return contract(i, logs); });
+  });
 }
 
 }  // namespace cgamesh::deform

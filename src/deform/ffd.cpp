@@ -191,20 +191,13 @@ Eigen::Matrix<float, N, 1> FreeFormDeformation::contract(Eigen::Index i, const F
                             lattice_.resolution[0], lattice_.resolution[0] * lattice_.resolution[1]);
 }
 
-template <class Move>
-void FreeFormDeformation::frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Move&& move) const {
+template <class Job>
+void FreeFormDeformation::frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Job&& job) const {
   if (static_cast<int>(count) != lattice_.count())
     throw InvalidInputError("ffd: " + std::to_string(count) + " " + what + " given for a lattice of " +
                             std::to_string(lattice_.count()));
   out.resize(rest_.rows(), 3);
-  detail::parallel_for(rest_.rows(), threads_, [&](Eigen::Index begin, Eigen::Index end) {
-    for (Eigen::Index i = begin; i < end; ++i) {
-      if (first_(i, 0) < 0)
-        out.row(i) = rest_.row(i);
-      else
-        out.row(i) = move(i);
-    }
-  });
+  detail::parallel_for(rest_.rows(), threads_, job);
 }
 
 void FreeFormDeformation::deform_points(std::span<const Eigen::Vector3d> points, mesh::RowMatrixXf<3>& out) const {
@@ -212,15 +205,26 @@ void FreeFormDeformation::deform_points(std::span<const Eigen::Vector3d> points,
   FfdTable<3> displacement(3, static_cast<Eigen::Index>(rest.size()));
   for (std::size_t c = 0; c < rest.size() && c < points.size(); ++c)
     displacement.col(static_cast<Eigen::Index>(c)) = (points[c] - rest[c]).cast<float>();
-  frame(points.size(), "control points", out,
-        [&](Eigen::Index i) -> Eigen::RowVector3f { return rest_.row(i) + contract(i, displacement).transpose(); });
+  frame(points.size(), "control points", out, [&](Eigen::Index begin, Eigen::Index end) {
+    for (Eigen::Index i = begin; i < end; ++i) {
+      if (first_(i, 0) < 0)
+        out.row(i) = rest_.row(i);
+      else
+        out.row(i) = rest_.row(i) + contract(i, displacement).transpose();
+    }
+  });
 }
 
 void FreeFormDeformation::deform_motors(std::span<const cga::Versor<double>> motors, mesh::RowMatrixXf<3>& out) const {
   FfdTable<detail::kGeneratorSize> logs;
   if (static_cast<int>(motors.size()) == lattice_.count()) detail::fill_log_table(motors, logs);
-  frame(motors.size(), "control point motors", out,
-        [&](Eigen::Index i) -> Eigen::RowVector3f { return detail::exp_apply(contract(i, logs), rest_.row(i)); });
+  // Outside the box the generator is 0, whose exp is exactly the identity.
+  using Generator = Eigen::Matrix<float, detail::kGeneratorSize, 1>;
+  frame(motors.size(), "control point motors", out, [&](Eigen::Index begin, Eigen::Index end) {
+    detail::exp_apply_range(rest_, begin, end, out, [&](Eigen::Index i) -> Generator {
+      return first_(i, 0) < 0 ? Generator::Zero() : contract(i, logs);
+    });
+  });
 }
 
 }  // namespace cgamesh::deform

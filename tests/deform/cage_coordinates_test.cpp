@@ -133,6 +133,22 @@ TEST(CageCoordinates, RigidCageMotionMovesTheMeshRigidly) {
   EXPECT_LT((out - expected).rowwise().norm().maxCoeff(), 2 * 3 * cell_size(cage, 32));
 }
 
+// A frame runs a single-precision kernel over blocks of vertices (rigid blends) and the double
+// exp for dilating ones: both equal the per-vertex blend to float precision.
+TEST(CageCoordinates, MotorFramesEqualThePerVertexBlend) {
+  const Cage cage = man_cage();
+  const mesh::RowMatrixXf<3>& rest = cesium_man().positions;
+  const double d = (rest.colwise().maxCoeff() - rest.colwise().minCoeff()).norm();
+  const CageDeformation deformation(rest, cage, man_coordinates());
+  for (const bool dilate : {false, true}) {
+    const auto motors = cgamesh_deform_test::varied_motors(static_cast<std::size_t>(cage.vertices.rows()), dilate);
+    mesh::RowMatrixXf<3> out;
+    deformation.deform_motors(motors, out);
+    EXPECT_LE((out - cgamesh_deform_test::blended_reference(deformation, rest, motors)).cwiseAbs().maxCoeff(),
+              2e-6 * d);
+  }
+}
+
 TEST(CageCoordinates, SparsityKeepsTheLargestAndRenormalises) {
   deform::CageSparsity s;
   s.max_weights = 4;

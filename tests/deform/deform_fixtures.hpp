@@ -4,12 +4,15 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "cgamesh/cga/point_map.hpp"
+#include "cgamesh/cga/versors.hpp"
+#include "cgamesh/deform/motor_blend.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 
@@ -84,6 +87,36 @@ inline std::vector<int> nearest(const Mesh& m, const Eigen::Vector3f& p, int cou
 
 inline double diagonal(const Mesh& m) {
   return (m.positions.colwise().maxCoeff() - m.positions.colwise().minCoeff()).cast<double>().norm();
+}
+
+/// `count` motors that differ per index: turns of up to ≈ 2.4 rad about varied axes, shifts, and
+/// with `dilate` scales in [0.9, 1.1] (every third motor rigid).
+inline std::vector<cgamesh::cga::Versor<double>> varied_motors(std::size_t count, bool dilate) {
+  std::vector<cgamesh::cga::Versor<double>> out;
+  for (std::size_t c = 0; c < count; ++c) {
+    const double x = static_cast<double>(c);
+    const auto rotor = cgamesh::cga::rotor(Eigen::Vector3d(std::sin(x), std::cos(2 * x), 1).normalized(),
+                                           0.4 * static_cast<double>(c % 7));
+    const double scale = dilate ? std::exp(0.1 * std::sin(3 * x) * static_cast<double>(c % 3 != 0)) : 1.0;
+    out.push_back(cgamesh::cga::similarity(Eigen::Vector3d(0.1 * std::cos(x), 0.05 * x, -0.02), rotor, scale));
+  }
+  return out;
+}
+
+/// A motor frame one vertex at a time in double, p = exp(Σ w log R) p̂ (eqs. 7–8) from a
+/// deformer's public weights(i): the reference of the frames' single-precision block kernel.
+template <class Deformer>
+cgamesh::mesh::RowMatrixXf<3> blended_reference(const Deformer& d, const cgamesh::mesh::RowMatrixXf<3>& rest,
+                                                std::span<const cgamesh::cga::Versor<double>> motors) {
+  const auto logs = cgamesh::deform::similarity_logs(motors);
+  cgamesh::mesh::RowMatrixXf<3> out(rest.rows(), 3);
+  for (Eigen::Index i = 0; i < rest.rows(); ++i) {
+    cgamesh::cga::SimilarityGenerator<double> b;
+    for (const auto& [c, w] : d.weights(i)) b += logs[static_cast<std::size_t>(c)] * w;
+    const Eigen::Matrix<double, 3, 4> m = cgamesh::deform::similarity_exp_affine(b);
+    out.row(i) = (m.leftCols<3>() * rest.row(i).transpose().cast<double>() + m.col(3)).transpose().cast<float>();
+  }
+  return out;
 }
 
 }  // namespace cgamesh_deform_test

@@ -199,6 +199,21 @@ TEST(Ffd, TwistKeepsEdgeLengthsCloserToRestWithMotors) {
   }
 }
 
+// A frame runs a single-precision kernel over blocks of vertices (rigid blends) and the double
+// exp for dilating ones: both equal the per-vertex blend to float precision.
+TEST(Ffd, MotorFramesEqualThePerVertexBlend) {
+  const mesh::RowMatrixXf<3>& rest = cesium_man().positions;
+  const double d = diagonal(rest);
+  for (const Lattice& l : lattices(rest))
+    for (const bool dilate : {false, true}) {
+      const FreeFormDeformation ffd(rest, l);
+      const auto motors = cgamesh_deform_test::varied_motors(static_cast<std::size_t>(l.count()), dilate);
+      mesh::RowMatrixXf<3> out;
+      ffd.deform_motors(motors, out);
+      EXPECT_LE(max_difference(out, cgamesh_deform_test::blended_reference(ffd, rest, motors)), 2e-6 * d);
+    }
+}
+
 TEST(Ffd, VerticesOutsideTheBoxStayInPlace) {
   const mesh::RowMatrixXf<3>& rest = cesium_man().positions;
   Lattice l;

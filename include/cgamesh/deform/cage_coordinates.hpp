@@ -148,9 +148,9 @@ class CageDeformation {
   void deform_motors(std::span<const cga::Versor<double>> motors, mesh::RowMatrixXf<3>& out) const;
 
  private:
-  /// One frame over the threads: out.row(i) = move(i).
-  template <class Move>
-  void frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Move&& move) const;
+  /// One frame: `out` sized, then job(begin, end) over the threads.
+  template <class Job>
+  void frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Job&& job) const;
   /// Σ λⱼ table.col(j) over the kept coordinates of vertex i.
   template <int N>
   [[nodiscard]] Eigen::Matrix<float, N, 1> contract(

@@ -108,10 +108,10 @@ class FreeFormDeformation {
   void deform_motors(std::span<const cga::Versor<double>> motors, mesh::RowMatrixXf<3>& out) const;
 
  private:
-  /// One frame over the threads: out.row(i) = move(i) inside the box, the rest position outside.
+  /// One frame: `out` sized, then job(begin, end) over the threads.
   /// @throws InvalidInputError when `count` (of `what`) is not the lattice's.
-  template <class Move>
-  void frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Move&& move) const;
+  template <class Job>
+  void frame(std::size_t count, const char* what, mesh::RowMatrixXf<3>& out, Job&& job) const;
   /// Σ_{u,v,k} w_{u,v,k} table.col(index(u,v,k)) for vertex i (inside the box).
   template <int N>
   [[nodiscard]] Eigen::Matrix<float, N, 1> contract(Eigen::Index i, const FfdTable<N>& table) const noexcept;
