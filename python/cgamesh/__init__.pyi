@@ -36,6 +36,9 @@ class Mesh:
     def faces(self) -> npt.NDArray[np.int32]:
         """#F×3 vertex indices."""
     @property
+    def file_index(self) -> npt.NDArray[np.int32]:
+        """#V each vertex's number in its file (OBJ `v` line from 0, PLY element, glTF accessor), -1 for new vertices; empty when unknown."""
+    @property
     def joints(self) -> npt.NDArray[np.uint16]:
         """#V×4 indices into palette (0×4 for a static mesh)."""
     @property
@@ -101,6 +104,8 @@ class Model:
         """One #V×3 float32 array per mesh, world space."""
     def animate(self, keys: Iterable[tuple[float, Edit]], blend: str = "linear", fps: float = 30.0,
                 name: str = "generated") -> Model: ...
+    def subdivided(self, levels: int = 1) -> Model:
+        """A copy with every mesh split 1 -> 4 at edge midpoints `levels` times (skin weights blended)."""
     def copy(self) -> Model: ...
 
 def load(path: Union[str, PathLike[str]]) -> Model: ...

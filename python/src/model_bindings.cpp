@@ -11,6 +11,7 @@
 #include "cgamesh/io/model_info.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/io/text_values.hpp"
+#include "cgamesh/mesh/subdivide.hpp"
 
 #include "bindings.hpp"
 
@@ -174,6 +175,14 @@ void add_model(py::module_& m) {
                              "#V×2 float32 texture coordinates (0×2 when none)")
       .def_property_readonly("faces", matrix_view([](const mesh::Mesh& me) -> const auto& { return me.faces; }),
                              "#F×3 int32 vertex indices")
+      .def_property_readonly(
+          "file_index",
+          [](py::object self) {
+            const auto& a = self.cast<const mesh::Mesh&>().file_index;
+            return view(a.data(), {a.rows()}, self);
+          },
+          "#V int32 each vertex's number in its file (glTF accessor, PLY vertex element, OBJ `v` line from 0), -1 "
+          "for a vertex an operation made; empty when the format's numbering is not kept (FBX, .x, ...)")
       .def_property_readonly("joints", matrix_view([](const mesh::Mesh& me) -> const auto& { return me.skin.joints; }),
                              "#V×4 uint16 skin joints, indices into `palette` (0×4 for a static mesh)")
       .def_property_readonly("weights",
@@ -347,6 +356,22 @@ void add_model(py::module_& m) {
           py::arg("keys"), py::arg("blend") = "linear", py::arg("fps") = 30.0, py::arg("name") = "generated",
           "A copy with one more clip generated from keys [(time, edit), ...] as `cgamesh animate` makes it (edits as "
           "in pose(); blend 'linear' or 'log').")
+      .def(
+          "subdivided",
+          [](const Model& me, int levels) {
+            if (levels < 0 || levels > 8) throw InvalidInputError("subdivided: levels must be in [0, 8]");
+            anim::RiggedModel out = me.model;
+            {
+              py::gil_scoped_release release;
+              for (int l = 0; l < levels; ++l)
+                for (mesh::Mesh& m : out.meshes) m = mesh::subdivide_midpoint(m);
+            }
+            return make_model(std::move(out), me.file);
+          },
+          py::arg("levels") = 1,
+          "A copy with every mesh split 1 -> 4 at its edge midpoints `levels` times (0 to 8; each level about "
+          "quadruples the faces): new vertices blend their edge's positions, normals, UVs and skin weights "
+          "(mesh::subdivide_midpoint). Releases the GIL.")
       .def(
           "copy", [](const Model& me) { return std::make_shared<Model>(me); }, "A deep copy.")
       .def("__repr__", [](const Model& me) {

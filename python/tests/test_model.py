@@ -25,6 +25,9 @@ def test_meshes_have_documented_shapes_and_dtypes(cesium):
     np.testing.assert_allclose(m.weights.sum(axis=1), 1, atol=1e-5)
     assert m.joints.max() < len(m.palette)
     assert m.skinned
+    # glTF keeps the file's vertex numbering: the identity.
+    assert m.file_index.dtype == np.int32
+    np.testing.assert_array_equal(m.file_index, np.arange(v))
 
 
 def test_mesh_arrays_are_read_only_views_that_keep_the_model_alive():
@@ -78,6 +81,10 @@ def test_save_obj_and_glb_equal_the_cli(tmp_path, cesium):
 
 def test_static_mesh_round_trip(tmp_path, spot):
     assert not spot.meshes[0].skinned
+    # OBJ: each vertex is numbered by its `v` line, seam copies sharing one.
+    index = spot.meshes[0].file_index
+    assert index.shape == (spot.meshes[0].positions.shape[0],)
+    assert index.min() >= 0 and len(np.unique(index)) < len(index)
     assert spot.meshes[0].joints.shape == (0, 4)
     spot.save(str(tmp_path / "spot.ply"))
     run_cli("pose", SPOT, "-o", tmp_path / "cli.ply")
@@ -110,6 +117,22 @@ def test_pose_defaults_follow_the_cli(tmp_path, cesium):
     box = cesium.info()["bounding_box"]
     np.testing.assert_allclose(cesium.skin(mode="matrix")[0].min(axis=0), box["min"], atol=1e-6)
     np.testing.assert_allclose(cesium.skin(mode="matrix")[0].max(axis=0), box["max"], atol=1e-6)
+
+
+def test_subdivided_keeps_the_old_vertices_and_their_skinning(cesium):
+    m = cesium.meshes[0]
+    v, f = m.positions.shape[0], m.faces.shape[0]
+    big = cesium.subdivided(2)
+    b = big.meshes[0]
+    assert b.faces.shape == (16 * f, 3) and b.positions.shape[0] > 4 * v
+    np.testing.assert_array_equal(b.positions[:v], m.positions)
+    assert (b.file_index[v:] == -1).all() and (b.file_index[:v] == m.file_index).all()
+    np.testing.assert_allclose(b.weights.sum(axis=1), 1, atol=1e-5)
+    pose = cesium.pose(time=0.5)
+    np.testing.assert_allclose(big.skin(pose)[0][:v], cesium.skin(pose)[0], atol=1e-6)
+    assert cesium.subdivided(0).meshes[0].positions.shape == m.positions.shape
+    with pytest.raises(cgamesh.InvalidInputError):
+        cesium.subdivided(-1)
 
 
 def test_skin_returns_arrays_that_own_their_memory(cesium):

@@ -519,8 +519,11 @@ Eigen::MatrixXd cage_coordinates(const mesh::RowMatrixXf<3>& rest, const Cage& c
     if (!(inside[static_cast<std::size_t>(i)] >= 0.5)) {
       std::ostringstream where;
       where << rest.row(i);
-      throw InvalidInputError("cage: vertex " + std::to_string(i) + " at (" + where.str() +
-                              ") is outside the cage (winding number " +
+      const bool labelled = options.vertex_labels.size() == static_cast<std::size_t>(nv) &&
+                            options.vertex_labels[static_cast<std::size_t>(i)] >= 0;
+      throw InvalidInputError("cage: vertex " +
+                              std::to_string(labelled ? options.vertex_labels[static_cast<std::size_t>(i)] : i) +
+                              " at (" + where.str() + ") is outside the cage (winding number " +
                               std::to_string(inside[static_cast<std::size_t>(i)]) + ")");
     }
 

@@ -284,14 +284,44 @@ void check_key_count(const DeformSpec& s) {
   }
 }
 
-/// The vertices a selection picks from `positions` (#V×3, in the spec's space).
-/// `noun` names what the positions are in messages.
+/// The vertices of `m` that an index list names: by the file's numbering where `m` keeps it
+/// (Mesh::file_index: in the order given, each file vertex's copies in ascending order), else
+/// by index.
+std::vector<int> vertices_of_indices(const std::vector<int>& indices, const mesh::Mesh& m, const std::string& field) {
+  const Eigen::Index count = m.vertex_count();
+  if (m.file_index.rows() == 0) {
+    for (const int v : indices)
+      if (v >= count) bad(field, "expected vertex indices in [0, " + std::to_string(count) + ")");
+    return indices;
+  }
+  std::vector<std::pair<int, int>> by_file;  // (file vertex, vertex), sorted
+  by_file.reserve(static_cast<std::size_t>(count));
+  for (Eigen::Index v = 0; v < count; ++v)
+    if (m.file_index[v] >= 0) by_file.emplace_back(m.file_index[v], static_cast<int>(v));
+  std::sort(by_file.begin(), by_file.end());
+  const int file_count = by_file.empty() ? 0 : by_file.back().first + 1;
+  std::vector<int> out;
+  for (const int f : indices) {
+    if (f >= file_count) bad(field, "expected vertex indices of the file in [0, " + std::to_string(file_count) + ")");
+    auto it = std::lower_bound(by_file.begin(), by_file.end(), std::pair{f, -1});
+    if (it == by_file.end() || it->first != f)
+      bad(field, "vertex " + std::to_string(f) + " of the file is on no triangle of the loaded mesh (or was joined " +
+                     "with an identical vertex)");
+    for (; it != by_file.end() && it->first == f; ++it) out.push_back(it->second);
+  }
+  return out;
+}
+
+/// The vertices a selection picks from `positions` (#V×3, in the spec's space); index lists as
+/// vertices_of_indices() reads them for `m`, the mesh the positions are of (nullptr: indices
+/// into `positions`). `noun` names what the positions are in messages.
 std::vector<int> select(const HandleSelection& h, const mesh::RowMatrixXf<3>& positions, const std::string& field,
-                        const std::string& noun = "vertex") {
+                        const std::string& noun = "vertex", const mesh::Mesh* m = nullptr) {
   const Eigen::Index count = positions.rows();
   if (h.kind == HandleSelection::Kind::indices) {
+    if (m != nullptr) return vertices_of_indices(h.indices, *m, field);
     for (const int v : h.indices)
-      if (v >= count) bad(field, "expected vertex indices in [0, " + std::to_string(count) + ")");
+      if (v >= count) bad(field, "expected " + noun + " indices in [0, " + std::to_string(count) + ")");
     return h.indices;
   }
   const auto& v = h.shape;
@@ -541,7 +571,7 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
       bool invertible = false;
       m.leftCols<3>().computeInverseWithCheck(inverse, invertible);
       if (!invertible)
-        bad("space", "world: the bind skinning of vertex " + std::to_string(i) +
+        bad("space", "world: the bind skinning of vertex " + std::to_string(target.vertex_label(i)) +
                          " is singular, so an edit cannot be mapped back to the mesh (use \"space\": \"mesh\")");
       to_mesh_[static_cast<std::size_t>(i)] << inverse, -inverse * m.col(3);
     }
@@ -551,7 +581,7 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
     return;
   }
   if (spec.method == DeformMethod::cage) {
-    bind_cage(spec, options);
+    bind_cage(spec, target, options);
     return;
   }
 
@@ -560,12 +590,13 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
   std::vector<int> owner(static_cast<std::size_t>(rest_.rows()), -1);  // handle of each welded node
   for (std::size_t h = 0; h < spec.handles.size(); ++h) {
     const std::string field = "handles[" + std::to_string(h) + "]";
-    handles_.push_back(select(spec.handles[h], rest_, field));
+    handles_.push_back(select(spec.handles[h], rest_, field, "vertex", &target));
     for (const int v : handles_.back()) {
       int& o = owner[static_cast<std::size_t>(node[static_cast<std::size_t>(v)])];
       if (o >= 0 && o != static_cast<int>(h))
-        bad(field, "vertex " + std::to_string(v) + " (or a vertex at its position) is also in handles[" +
-                       std::to_string(o) + "]; handles must be disjoint");
+        bad(field, "vertex " + std::to_string(target.vertex_label(v)) +
+                       " (or a vertex at its position) is also in handles[" + std::to_string(o) +
+                       "]; handles must be disjoint");
       o = static_cast<int>(h);
     }
   }
@@ -688,7 +719,7 @@ void BoundDeformer::bind_ffd(const DeformSpec& spec, const SpecBindOptions& opti
   variant_ = spec.variant;
 }
 
-void BoundDeformer::bind_cage(const DeformSpec& spec, const SpecBindOptions& options) {
+void BoundDeformer::bind_cage(const DeformSpec& spec, const mesh::Mesh& target, const SpecBindOptions& options) {
   const CageSpec& c = spec.cage;
   Cage cage = read_cage_obj(c.cage);
   Eigen::MatrixXd coordinates;
@@ -700,6 +731,7 @@ void BoundDeformer::bind_cage(const DeformSpec& spec, const SpecBindOptions& opt
       CageOptions solve;
       solve.resolution = c.resolution;
       solve.threads = options.blend.threads;
+      solve.vertex_labels = std::span(target.file_index.data(), static_cast<std::size_t>(target.file_index.size()));
       coordinates = cage_coordinates(rest_, cage, solve);
     }
   } catch (const FileError&) {

@@ -11,6 +11,8 @@
 
 #include "cgamesh/errors.hpp"
 
+#include "lower_case.hpp"
+
 namespace cgamesh::io::detail {
 namespace {
 
@@ -120,13 +122,6 @@ void read_sampler(const tinygltf::Model& model, const tinygltf::AnimationSampler
         ch.values.push_back(v);
       }
   }
-}
-
-std::string lower_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
 }
 
 /// The clips of the file, channels bound to `skeleton` joints by node name (or Assimp's

@@ -23,6 +23,7 @@
 #include "cgamesh/mesh/influences.hpp"
 
 #include "gltf_extras_reader.hpp"
+#include "lower_case.hpp"
 
 namespace cgamesh::io {
 namespace {
@@ -31,11 +32,6 @@ namespace fs = std::filesystem;
 using anim::Channel;
 using anim::ChannelPath;
 using anim::Interpolation;
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 /// The name of the .bin next to `gltf`: its stem with every character outside [A-Za-z0-9._-]
 /// replaced by '_', so the URI needs no percent-encoding (which Assimp and tinygltf do not
@@ -591,7 +587,7 @@ std::string serialize(const tinygltf::Model& gm, bool binary, bool pretty) {
 
 std::vector<EncodedFile> encode_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
                                      const GltfWriteOptions& options, std::vector<std::string>* warnings_out) {
-  const std::string ext = lower(out.extension().string());
+  const std::string ext = detail::lower_extension(out);
   if (ext != ".glb" && ext != ".gltf")
     throw InvalidInputError("write_gltf: unknown extension '" + out.extension().string() + "' of '" + out.string() +
                             "' (expected .glb or .gltf)");

@@ -11,15 +11,12 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
 
+#include "lower_case.hpp"
+
 namespace cgamesh::io {
 namespace {
 
 [[noreturn]] void invalid(const std::string& message) { throw InvalidInputError("write_mesh: " + message); }
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 std::string label(const mesh::Mesh& m, std::size_t index) {
   return "mesh " + std::to_string(index) + (m.name.empty() ? std::string() : " ('" + m.name + "')");
@@ -144,7 +141,7 @@ std::string make_ply(std::span<const mesh::Mesh> meshes, std::span<const mesh::R
 
 EncodedFile encode_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
                         const std::filesystem::path& out) {
-  const std::string ext = lower(out.extension().string());
+  const std::string ext = detail::lower_extension(out);
   if (ext != ".obj" && ext != ".ply")
     invalid("unknown extension '" + out.extension().string() + "' of '" + out.string() + "' (expected .obj or .ply)");
   const std::int64_t vertices = check(meshes, positions);

@@ -24,7 +24,9 @@
 #include "cgamesh/mesh/influences.hpp"
 #include "cgamesh/mesh/weld.hpp"
 
+#include "file_vertices.hpp"
 #include "gltf_extras_reader.hpp"
+#include "lower_case.hpp"
 #include "preflight.hpp"
 
 namespace cgamesh::io {
@@ -375,9 +377,7 @@ class Loader {
         warn("material '" + material + "': texture '" + path + "' cannot be read; not kept");
         return texture_of_path_[path] = -1;
       }
-      std::string ext = file.extension().string();
-      std::transform(ext.begin(), ext.end(), ext.begin(),
-                     [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      const std::string ext = detail::lower_extension(file);
       image.mime_type = ext == ".png" ? "image/png" : ext == ".jpg" || ext == ".jpeg" ? "image/jpeg" : "";
     }
     model_.textures.push_back(std::move(image));
@@ -480,6 +480,7 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
   try {
     Loader loader(*scene, options, path.parent_path());
     anim::RiggedModel model = loader.run();
+    detail::number_file_vertices(path, model.meshes);
     if (detail::is_gltf(path))
       detail::read_gltf_extras(path, model);
     else

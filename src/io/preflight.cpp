@@ -9,13 +9,10 @@
 
 #include "cgamesh/errors.hpp"
 
+#include "lower_case.hpp"
+
 namespace cgamesh::io::detail {
 namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 /// The first word of a line.
 std::string first_word(const std::string& line) {
@@ -141,7 +138,7 @@ void check_glb(const std::filesystem::path& path, std::istream& in, std::uintmax
 }  // namespace
 
 void preflight(const std::filesystem::path& path) {
-  const std::string ext = lower(path.extension().string());
+  const std::string ext = lower_extension(path);
   if (ext != ".smd" && ext != ".md5mesh" && ext != ".md5anim" && ext != ".ply" && ext != ".glb") return;
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);

@@ -42,7 +42,8 @@ void blend_influences(const Skin& skin, const VertexSource& source, std::span<st
   const auto gather = [&](std::uint8_t mask) {
     for (int s = 0; s < source.count(); ++s) {
       if ((mask & (1u << s)) == 0) continue;
-      for (int k = 0; k < 4; ++k) all[n++] = {source.weight[s] * skin.weights(source.vertex[s], k), skin.joints(source.vertex[s], k)};
+      for (int k = 0; k < 4; ++k)
+        all[n++] = {source.weight[s] * skin.weights(source.vertex[s], k), skin.joints(source.vertex[s], k)};
     }
   };
   gather(source.influence_mask);
@@ -72,7 +73,7 @@ void check_sources(std::span<const VertexSource> sources, Eigen::Index nv) {
 /// `old`'s rows. `out` may be `old` itself, grown, as long as the sources lie before `first`.
 void blend_rows(const Mesh& old, std::span<const VertexSource> sources, Mesh& out, Eigen::Index first) {
   const bool has_normals = old.normals.rows() > 0, has_uvs = old.uvs.rows() > 0, has_skin = !old.skin.empty();
-  const bool had_generated = old.generated.rows() > 0;
+  const bool had_generated = old.generated.rows() > 0, has_file_index = old.file_index.rows() > 0;
   // One pass over the sources for all attributes: most new vertices are copies.
   const CopyRows<float, 3> positions{old.positions.data(), out.positions.data()},
       normals{old.normals.data(), out.normals.data()};
@@ -88,8 +89,10 @@ void blend_rows(const Mesh& old, std::span<const VertexSource> sources, Mesh& ou
       if (has_normals) normals(v, i);
       if (has_uvs) uvs(v, i);
       out.generated[i] = had_generated ? old.generated[v] : std::uint8_t{0};
+      if (has_file_index) out.file_index[i] = old.file_index[v];
     } else {
       out.generated[i] = 1;
+      if (has_file_index) out.file_index[i] = -1;
       blend_row(old.positions, s, out.positions, i, false);
       if (has_normals) blend_row(old.normals, s, out.normals, i, true);
       if (has_uvs) blend_row(old.uvs, s, out.uvs, i, false);
@@ -136,6 +139,7 @@ Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
   if (old.normals.rows() > 0) out.normals.resize(n, 3);
   if (old.uvs.rows() > 0) out.uvs.resize(n, 2);
   out.generated.resize(n);
+  if (old.file_index.rows() > 0) out.file_index.resize(n);
   if (!old.skin.empty()) {
     out.skin.palette = old.skin.palette;
     out.skin.inverse_bind = old.skin.inverse_bind;
@@ -154,8 +158,11 @@ void append_resampled(Mesh& m, std::span<const VertexSource> sources) {
   grow_rows(m.positions, n);
   grow_rows(m.normals, n);
   grow_rows(m.uvs, n);
-  if (m.generated.rows() > 0) m.generated.conservativeResize(first + n);
-  else m.generated = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>::Zero(first + n);
+  if (m.generated.rows() > 0)
+    m.generated.conservativeResize(first + n);
+  else
+    m.generated = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>::Zero(first + n);
+  grow_rows(m.file_index, n);
   if (!m.skin.empty()) {
     grow_rows(m.skin.joints, n);
     grow_rows(m.skin.weights, n);

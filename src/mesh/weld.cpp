@@ -89,6 +89,7 @@ int join_identical_vertices(Mesh& m) {
   if (m.normals.rows() > 0) m.normals = m.normals(kept, Eigen::all).eval();
   if (m.uvs.rows() > 0) m.uvs = m.uvs(kept, Eigen::all).eval();
   if (m.generated.rows() > 0) m.generated = m.generated(kept).eval();
+  if (m.file_index.rows() > 0) m.file_index = m.file_index(kept).eval();
   if (!m.skin.empty()) {
     m.skin.joints = m.skin.joints(kept, Eigen::all).eval();
     m.skin.weights = m.skin.weights(kept, Eigen::all).eval();

@@ -294,6 +294,7 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   m.uvs = stack_rows(old.uvs, kept, all, blended.uvs);
   m.generated = stack_rows(old.generated.rows() > 0 ? old.generated : decltype(old.generated)::Zero(nv), kept, all,
                            blended.generated);
+  m.file_index = stack_rows(old.file_index, kept, all, blended.file_index);
   if (!old.skin.empty()) {
     m.skin = std::move(blended.skin);
     m.skin.joints = stack_rows(old.skin.joints, kept, all, m.skin.joints);

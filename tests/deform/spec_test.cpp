@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -149,7 +150,16 @@ TEST(DeformSpecBind, EqualsTheDirectBind) {
   const std::vector<Versor> keys = {Versor(cga::basis_blade<double, cga::blade::scalar>()),
                                     reference_key({0, 0, 1}, 40, {0.1, 0.2, 0.3}, {0, 0.1, 0}, 1.1)};
   const std::vector<Versor> rest(2, Versor(cga::basis_blade<double, cga::blade::scalar>()));
-  const std::vector<std::vector<int>> handles = {{0, 1, 2}, {500, 501}};
+  // Indices are the OBJ's `v` lines (from 0): each selects every loaded vertex split from it.
+  // Handles list them in the order given, the copies of one in ascending order.
+  std::vector<std::vector<int>> handles(2);
+  for (const auto& [h, file_vertices] : {std::pair{0, std::vector{0, 1, 2}}, std::pair{1, std::vector{500, 501}}})
+    for (const int f : file_vertices)
+      for (Eigen::Index v = 0; v < m.vertex_count(); ++v)
+        if (m.file_index[v] == f) handles[static_cast<std::size_t>(h)].push_back(static_cast<int>(v));
+  ASSERT_GE(handles[0].size(), 3u);
+  ASSERT_GE(handles[1].size(), 2u);
+  EXPECT_EQ(bound.handles(), handles);
   mesh::RowMatrixXf<3> expected;
   deform::bind_harmonic_handles(m, handles, rest).deform(keys, expected);
   EXPECT_EQ(max_difference(bound.apply(bound.keys()), expected), 0.0);
@@ -218,6 +228,57 @@ TEST(DeformSpecBind, MeshErrorsNameTheField) {
   EXPECT_NE(message(R"({"method": "harmonic", "handles": [[0, 1], [1, 2]], "keys": [{}, {}]})")
                 .find("spec.handles[1]: vertex 1"),
             std::string::npos);
+}
+
+// Messages and index handles use the file's numbering (here an OBJ whose `v` lines are in
+// another order than the loader's vertices, with one unused line), not the loaded mesh's.
+TEST(DeformSpecBind, IndicesAndMessagesUseTheFilesNumbering) {
+  cgamesh_test::TempDir dir;
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  };
+  // v lines 0-4: the apex (outside the cage below), unused, then the base used first.
+  const std::string obj = write("pyramid.obj",
+                                "v 0 0 5\nv 9 9 9\nv -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+                                "f 3 5 4\nf 3 6 5\nf 3 4 1\nf 4 5 1\nf 5 6 1\nf 6 3 1\n");
+  const anim::RiggedModel model = io::load_model(obj);
+  const mesh::Mesh& m = model.meshes.at(0);
+  ASSERT_EQ(m.vertex_count(), 5);
+  const Eigen::Index apex = std::find(m.file_index.data(), m.file_index.data() + 5, 0) - m.file_index.data();
+  ASSERT_NE(apex, 0) << "the test needs the loader to number the apex otherwise than the file";
+  const auto message = [&](const std::string& text) {
+    try {
+      (void)BoundDeformer(parse_spec(text, (dir / "spec.json").string()), model);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const BoundDeformer bound(parse_spec(R"({"method": "harmonic", "handles": [[2, 3], [0]],
+      "keys": [{}, {"translate": [0, 0, 1]}]})",
+                                       "inline"),
+                            model);
+  EXPECT_EQ(bound.handles()[1], std::vector<int>{static_cast<int>(apex)});
+  EXPECT_NEAR(bound.apply(bound.keys())(apex, 2), 6.0f, 1e-5f);
+  EXPECT_NE(message(R"({"method": "harmonic", "handles": [[2], [1]], "keys": [{}, {}]})")
+                .find("spec.handles[1]: vertex 1 of the file is on no triangle"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"method": "harmonic", "handles": [[2], [6]], "keys": [{}, {}]})")
+                .find("spec.handles[1]: expected vertex indices of the file in [0, 6)"),
+            std::string::npos);
+  EXPECT_NE(message(R"({"method": "harmonic", "handles": [[2, 0], [0]], "keys": [{}, {}]})")
+                .find("spec.handles[1]: vertex 0 (or a vertex at its position)"),
+            std::string::npos);
+  write("cage.obj",
+        "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+        "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n");
+  EXPECT_NE(message(R"({"method": "cage", "space": "mesh", "cage": "cage.obj", "resolution": 8, "handles": [[0]],
+      "keys": [{}]})")
+                .find("cage: vertex 0 at (0 0 5) is outside the cage"),
+            std::string::npos)
+      << message(
+             R"({"method": "cage", "space": "mesh", "cage": "cage.obj", "resolution": 8, "handles": [[0]], "keys": [{}]})");
 }
 
 /// A harmonic spec for CesiumMan in world space: the lowest and highest fifth of the figure in

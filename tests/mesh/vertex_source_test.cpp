@@ -57,6 +57,15 @@ TEST(VertexSource, AppendedInPlaceAsResampled) {
   EXPECT_EQ(grown.skin.joints.topRows(nv), old.skin.joints);
   EXPECT_EQ(grown.skin.joints.bottomRows(n), fresh.skin.joints);
   EXPECT_EQ(grown.skin.weights.bottomRows(n), fresh.skin.weights);
+  // The file's numbering: a copy keeps its origin's, a blend has none.
+  ASSERT_EQ(old.file_index.rows(), nv);
+  ASSERT_EQ(grown.file_index.rows(), nv + n);
+  ASSERT_EQ(fresh.file_index.rows(), n);
+  EXPECT_EQ(grown.file_index.bottomRows(n), fresh.file_index);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const mesh::VertexSource& s = sources[static_cast<std::size_t>(i)];
+    EXPECT_EQ(fresh.file_index[i], s.count() == 1 ? old.file_index[s.vertex[0]] : -1) << i;
+  }
   for (Eigen::Index i = nv; i < nv + n; ++i) {
     EXPECT_NEAR(grown.skin.weights.row(i).sum(), 1.0f, 1e-6f);
     EXPECT_NEAR(grown.normals.row(i).norm(), 1.0f, 1e-5f);

@@ -67,6 +67,9 @@ struct CageOptions {
   /// side (ℓ2); 1e-6 leaves a solver error far below the grid error.
   double tolerance = 1e-6;
   int threads = 0;  ///< threads of the precompute and of each frame; 0: all hardware threads
+  /// #V how messages number the vertices of `rest` (e.g. Mesh::file_index; a negative entry:
+  /// the row), or empty: by row.
+  std::span<const int> vertex_labels;
 };
 
 inline constexpr int kMinCageResolution = 4;

@@ -85,7 +85,9 @@ enum class FreeParts {
 struct HandleSelection {
   enum class Kind { indices, sphere, box, lattice_points };
   Kind kind = Kind::indices;
-  std::vector<int> indices;                ///< Kind::indices: vertex indices of the mesh (≥ 0)
+  /// Kind::indices (≥ 0): mesh vertices as the file numbers them (Mesh::file_index; every vertex
+  /// split from one), or by index for a mesh without the file's numbering; cage: cage vertices
+  std::vector<int> indices;
   std::vector<std::array<int, 3>> points;  ///< Kind::lattice_points: control points [u, v, k] (ffd)
   std::array<double, 6> shape{};           ///< sphere: x, y, z, r; box: x0, y0, z0, x1, y1, z1
 };
@@ -253,7 +255,7 @@ class BoundDeformer {
   void bind_arap(const DeformSpec& spec, const mesh::Mesh& shape, const std::vector<std::vector<int>>& handles,
                  const SpecBindOptions& options);
   void apply_arap(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport* report) const;
-  void bind_cage(const DeformSpec& spec, const SpecBindOptions& options);
+  void bind_cage(const DeformSpec& spec, const mesh::Mesh& target, const SpecBindOptions& options);
 
   int mesh_ = 0;
   DeformSpace space_ = DeformSpace::mesh;

@@ -16,7 +16,8 @@ struct LoadOptions {
 /// Loads every triangle mesh, the node hierarchy (as the skeleton), skins and animation clips.
 /// glTF's vertices are kept as the file indexes them; other formats' vertices that agree in
 /// every attribute are joined (mesh::join_identical_vertices), so seams where a normal, UV or
-/// skin weight differs stay split. Before Assimp reads it, a file of a format whose reader
+/// skin weight differs stay split. Each vertex keeps its number in the file where the format's
+/// numbering is known (Mesh::file_index: glTF, PLY, OBJ). Before Assimp reads it, a file of a format whose reader
 /// can hang or allocate without bound is checked (SMD sections closed, MD5 braces balanced,
 /// PLY and MD5 counts within the file's size). Skins keep the 4 largest influences
 /// per vertex, renormalised to sum 1; non-uniform scales in bind data or keys are kept in the

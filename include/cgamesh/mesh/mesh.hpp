@@ -45,6 +45,13 @@ struct Mesh {
   /// subdivision), 0 where it comes from the file or is a copy of such a vertex; 0 rows when
   /// no operation made any. glTF files keep it as the attribute _CGAMESH_GENERATED.
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> generated;
+  /// #V the vertex's number in the file it was loaded from, so that messages and spec handles
+  /// can use the numbers a user sees in other tools: glTF the accessor element, PLY the vertex
+  /// element, OBJ the `v` line (from 0, so `f` index − 1). Vertices split from one file vertex
+  /// (seams) share it; a vertex an operation made has −1, a copy keeps its origin's. 0 rows
+  /// when the format's numbering is not known (Assimp gives one vertex per face corner for the
+  /// others) — vertices are then named by their index here.
+  Eigen::Matrix<int, Eigen::Dynamic, 1> file_index;
   Skin skin;  ///< empty for a static mesh
   /// Skeleton node the mesh hangs from, or -1: a static mesh is placed by it; a skinned mesh
   /// is placed by its joints alone, and its node is kept so that a written file keeps its tree.
@@ -57,6 +64,11 @@ struct Mesh {
 
   [[nodiscard]] Eigen::Index vertex_count() const noexcept { return positions.rows(); }
   [[nodiscard]] Eigen::Index face_count() const noexcept { return faces.rows(); }
+  /// The number by which messages name vertex v (0 <= v < #V): file_index[v] when the file's
+  /// numbering is known and v has one, else v.
+  [[nodiscard]] int vertex_label(Eigen::Index v) const noexcept {
+    return file_index.rows() > 0 && file_index[v] >= 0 ? file_index[v] : static_cast<int>(v);
+  }
   /// The material of face f (0 <= f < #F).
   [[nodiscard]] int face_material(Eigen::Index f) const noexcept {
     return face_materials.rows() > 0 ? face_materials[f] : material;

@@ -25,7 +25,8 @@ int number_classes(std::span<int> ids);
 /// Joins the vertices of `m` that agree in position and in every attribute (normal, UV, joints
 /// and weights, generated flag), bit for bit (−0 = +0): seams, where an attribute differs,
 /// stay split; the rest is shared (file formats and importers that give one vertex per face
-/// corner make triangle soups). The first vertex of each class keeps its place in the order.
+/// corner make triangle soups). The first vertex of each class keeps its place in the order,
+/// and its file_index (which is not compared: a soup's corners each have their own).
 /// @param[in,out] m  the mesh; faces renumbered
 /// @return the number of vertices removed
 int join_identical_vertices(Mesh& m);
