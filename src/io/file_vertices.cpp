@@ -60,10 +60,9 @@ class PositionMatcher {
  public:
   explicit PositionMatcher(const mesh::RowMatrixXf<3>& file)
       : file_(file), next_(static_cast<std::size_t>(file.rows()), -1) {
-    float largest = 0;
     for (Eigen::Index v = 0; v < file.rows(); ++v)
-      if (file.row(v).allFinite()) largest = std::max(largest, file.row(v).cwiseAbs().maxCoeff());
-    tolerance_ = std::max(1e-6f * largest, std::numeric_limits<float>::min());
+      if (file.row(v).allFinite()) largest_ = std::max(largest_, file.row(v).cwiseAbs().maxCoeff());
+    tolerance_ = std::max(1e-6f * largest_, std::numeric_limits<float>::min());
     cell_ = 2 * tolerance_;
     head_.reserve(static_cast<std::size_t>(file.rows()));
     // Chains in decreasing order, so that each is walked from its first `v` line.
@@ -79,6 +78,8 @@ class PositionMatcher {
 
   /// The file vertex nearest to p within the tolerance (the first among equals), or −1.
   [[nodiscard]] int operator()(const Eigen::RowVector3f& p) const {
+    // Far outside the file's extent no `v` line matches (and the cell number would not fit an int).
+    if (!(p.cwiseAbs().maxCoeff() <= 2 * largest_)) return -1;
     const Eigen::Array3i c = cell_of(p);
     int best = -1;
     float best_distance = tolerance_;
@@ -99,7 +100,7 @@ class PositionMatcher {
 
  private:
   [[nodiscard]] Eigen::Array3i cell_of(const Eigen::RowVector3f& p) const {
-    // |p| ≤ largest, so a cell number is within ±largest / (2e-6 largest) = ±5e5 (+1 for rounding).
+    // |p| ≤ 2 largest, so a cell number is within ±2 largest / (2e-6 largest) = ±1e6 (< 2^20).
     return (p.array() / cell_).floor().cast<int>().transpose();
   }
   [[nodiscard]] static std::uint64_t key(const Eigen::Array3i& c) {
@@ -109,7 +110,7 @@ class PositionMatcher {
   }
 
   const mesh::RowMatrixXf<3>& file_;
-  float tolerance_ = 0, cell_ = 0;
+  float largest_ = 0, tolerance_ = 0, cell_ = 0;
   FlatMap<int> head_;
   std::vector<int> next_;
 };
