@@ -51,7 +51,7 @@ struct ArapOptions {
   ArapLocalStep local_step = ArapLocalStep::rotor;
   int iterations = 10;   ///< at most this many local/global iterations, ≥ 1
   double tolerance = 0;  ///< stop once the energy falls by less than tolerance × its value; 0: never
-  int threads = 0;       ///< local step and right-hand sides (0: all hardware threads)
+  int threads = 0;       ///< local step, right-hand sides, back-substitutions (0: all hardware threads)
 };
 
 /// One cell term: the edge (a, b) of welded nodes with weight w and w·(p_a − p_b) at rest.
