@@ -36,10 +36,11 @@ demo: build
 	bash scripts/demo.sh $(BUILD)/apps/cli/cgamesh
 
 bench: deps
-	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release
-	cmake --build $(BENCH_BUILD) -j $(JOBS) --target cgamesh_bench
+	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DCGAMESH_BUILD_PYTHON=ON
+	cmake --build $(BENCH_BUILD) -j $(JOBS) --target cgamesh_bench _cgamesh
 	$(BENCH_BUILD)/bench/cgamesh_bench --benchmark_min_time=0.2 --benchmark_repetitions=5 --benchmark_report_aggregates_only=true --benchmark_out=$(BENCH_BUILD)/bench.json --benchmark_out_format=json
 	python3 scripts/bench_table.py $(BENCH_BUILD)/bench.json
+	PYTHONPATH=$(BENCH_BUILD)/python /usr/bin/python3 python/bench/skin_bench.py $(BENCH_BUILD)/bench/cgamesh_bench
 
 format:
 	find include src apps tests bench -name '*.hpp' -o -name '*.cpp' | xargs clang-format -i

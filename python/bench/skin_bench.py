@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Times cgamesh from Python against the same work in C++ (issue #18, Benchmarks).
 
-    PYTHONPATH=build-release/python python3 python/bench/skin_bench.py [build-release/bench/cgamesh_bench]
+    PYTHONPATH=build-release/python /usr/bin/python3 python/bench/skin_bench.py [build-release/bench/cgamesh_bench]
 
 Prints the median time of Model.skin() (cga skinning, all threads) on CesiumMan and on CesiumMan
 subdivided past a million vertices (2 422 358, as the C++ benchmark makes it), and of cga.up()

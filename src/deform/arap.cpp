@@ -102,7 +102,7 @@ void check_options(const ArapOptions& options) {
 }
 
 /// Nodes of the smallest part worth a thread in the local step and the right-hand sides: a node
-/// costs ≈ 0.3 µs (7 edges, Horn's rotor), ≈ 10× a vertex of skinning, so the arm (8 002 nodes)
+/// costs ≈ 0.3 µs (7 edges, Horn's rotor), ≈ 30 vertices of skinning, so the arm (8 002 nodes)
 /// and the cow (2 903) split too.
 constexpr Eigen::Index kMinArapPart = 512;
 
