@@ -324,8 +324,10 @@ std::vector<int> ogre_constraints(const mesh::Mesh& m) {
   return c;
 }
 
-void BM_DeformHarmonicFactorOgre(benchmark::State& state) {
-  const mesh::Mesh* m = shared_mesh("ogre.obj");
+/// The harmonic field's factorisation on a mesh as io::load_model gives it (OBJ corners joined,
+/// seams split; the field welds positions itself), against libigl's `igl::harmonic` (#19).
+void BM_DeformHarmonicFactor(benchmark::State& state, const std::string& name) {
+  const mesh::Mesh* m = shared_mesh(name);
   if (m == nullptr) return state.SkipWithError("model not found (../shared/data is not present)");
   if (!bindable(state, *m)) return;
   const std::vector<int> c = ogre_constraints(*m);
@@ -458,7 +460,11 @@ BENCHMARK_CAPTURE(BM_FfdBind, bspline, deform::LatticeBasis::bspline)->Unit(benc
 BENCHMARK(BM_CagePrecompute)->ArgsProduct({{32, 64}, {1, 0}})->Unit(benchmark::kMillisecond)->UseRealTime();
 // Args: threads (0 = all), variant (0 classic, 1 motor), max_weights (56: all of the cube cage's).
 BENCHMARK(BM_CageFrame)->ArgsProduct({{1, 0}, {0, 1}, {8, 16, 56}})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_DeformHarmonicFactorOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformHarmonicFactor, cow, std::string("cow.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformHarmonicFactor, bunny, std::string("stanford-bunny.obj"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_DeformHarmonicFactor, ogre, std::string("ogre.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DeformHarmonicSolveOgre)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_ArapPrecompute, cow, std::string("cow.obj"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_ArapPrecompute, arm_16k, std::string("arm_16k.ply"))->Unit(benchmark::kMillisecond)->UseRealTime();
