@@ -13,6 +13,23 @@ namespace {
 
 constexpr int kLeafSize = 4;
 
+/// Whether the segment a + t·dir, t ∈ [0, 1], meets the box [lo, hi] (slab test, with a relative
+/// slack of 1e-12 for rounding).
+bool segment_meets_box(const Eigen::Vector3d& a, const Eigen::Vector3d& dir, const Eigen::Vector3d& lo,
+                       const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d b = a + dir;
+  if ((lo.array() > a.cwiseMax(b).array()).any() || (hi.array() < a.cwiseMin(b).array()).any()) return false;
+  double t0 = 0, t1 = 1;
+  for (int k = 0; k < 3; ++k) {
+    if (dir[k] == 0) continue;
+    double ta = (lo[k] - a[k]) / dir[k], tb = (hi[k] - a[k]) / dir[k];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1 * (1 + 1e-12) + 1e-12;
+}
+
 }  // namespace
 
 TriangleBvh::TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces) {
@@ -127,44 +144,55 @@ void TriangleBvh::faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d&
       [&](int f) { out.push_back(f); });
 }
 
-std::vector<SegmentHit> TriangleBvh::segment_hits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+void TriangleBvh::faces_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
+                                     std::vector<int>& out) const {
   const Eigen::Vector3d dir = b - a;
-  const Eigen::Vector3d slo = a.cwiseMin(b), shi = a.cwiseMax(b);
-  std::vector<SegmentHit> hits;
+  const double length2 = dir.squaredNorm();
+  // Within `radius` of the segment (Euclidean) implies meeting the box grown by `radius` (L∞):
+  // the test of the nodes, and the first one of each face, then a sphere bound around its box.
   traverse(
       [&](const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
-        if ((lo.cast<double>().array() > shi.array()).any() || (hi.cast<double>().array() < slo.array()).any())
-          return false;
-        // Slab test of the segment against the box.
-        double t0 = 0, t1 = 1;
-        for (int k = 0; k < 3; ++k) {
-          if (dir[k] == 0) continue;
-          double ta = (lo[k] - a[k]) / dir[k], tb = (hi[k] - a[k]) / dir[k];
-          if (ta > tb) std::swap(ta, tb);
-          t0 = std::max(t0, ta);
-          t1 = std::min(t1, tb);
-        }
-        return t0 <= t1 * (1 + 1e-12) + 1e-12;
+        return segment_meets_box(a, dir, (lo.cast<double>().array() - radius).matrix(),
+                                 (hi.cast<double>().array() + radius).matrix());
       },
       [&](int f) {
-        const auto fi = static_cast<std::size_t>(f);
-        const Eigen::Vector3d p0 = corners_[3 * fi].cast<double>(), e1 = corners_[3 * fi + 1].cast<double>() - p0,
-                              e2 = corners_[3 * fi + 2].cast<double>() - p0;
-        const Eigen::Vector3d pv = dir.cross(e2);
-        const double det = e1.dot(pv);
-        if (std::abs(det) <= 1e-300) return;  // segment parallel to the face plane
-        const Eigen::Vector3d tv = a - p0;
-        const double u = tv.dot(pv) / det;
-        const Eigen::Vector3d qv = tv.cross(e1);
-        const double v = dir.dot(qv) / det;
-        const double t = e2.dot(qv) / det;
-        // A segment through a vertex or along an edge meets the faces there within rounding
-        // (u or v a few ulps below 0): each of them counts as hit, at the clamped point.
-        constexpr double eps = 1e-9;
-        if (u < -eps || v < -eps || u + v > 1 + eps || t < -eps || t > 1 + eps) return;
-        const double cu = std::clamp(u, 0.0, 1.0), cv = std::clamp(v, 0.0, 1.0 - cu);
-        hits.push_back({f, std::clamp(t, 0.0, 1.0), Eigen::Vector3d(1 - cu - cv, cu, cv)});
+        Eigen::Vector3d lo = corners_[3 * static_cast<std::size_t>(f)].cast<double>(), hi = lo;
+        for (std::size_t k = 1; k < 3; ++k) {
+          lo = lo.cwiseMin(corners_[3 * static_cast<std::size_t>(f) + k].cast<double>());
+          hi = hi.cwiseMax(corners_[3 * static_cast<std::size_t>(f) + k].cast<double>());
+        }
+        if (!segment_meets_box(a, dir, (lo.array() - radius).matrix(), (hi.array() + radius).matrix())) return;
+        const Eigen::Vector3d c = 0.5 * (lo + hi);
+        const double t = length2 > 0 ? std::clamp((c - a).dot(dir) / length2, 0.0, 1.0) : 0.0;
+        const double reach = radius + 0.5 * (hi - lo).norm();
+        if ((a + t * dir - c).squaredNorm() <= reach * reach * (1 + 1e-12)) out.push_back(f);
       });
+}
+
+std::vector<SegmentHit> TriangleBvh::segment_hits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+  const Eigen::Vector3d dir = b - a;
+  std::vector<SegmentHit> hits;
+  traverse([&](const Eigen::Vector3f& lo,
+               const Eigen::Vector3f& hi) { return segment_meets_box(a, dir, lo.cast<double>(), hi.cast<double>()); },
+           [&](int f) {
+             const auto fi = static_cast<std::size_t>(f);
+             const Eigen::Vector3d p0 = corners_[3 * fi].cast<double>(), e1 = corners_[3 * fi + 1].cast<double>() - p0,
+                                   e2 = corners_[3 * fi + 2].cast<double>() - p0;
+             const Eigen::Vector3d pv = dir.cross(e2);
+             const double det = e1.dot(pv);
+             if (std::abs(det) <= 1e-300) return;  // segment parallel to the face plane
+             const Eigen::Vector3d tv = a - p0;
+             const double u = tv.dot(pv) / det;
+             const Eigen::Vector3d qv = tv.cross(e1);
+             const double v = dir.dot(qv) / det;
+             const double t = e2.dot(qv) / det;
+             // A segment through a vertex or along an edge meets the faces there within rounding
+             // (u or v a few ulps below 0): each of them counts as hit, at the clamped point.
+             constexpr double eps = 1e-9;
+             if (u < -eps || v < -eps || u + v > 1 + eps || t < -eps || t > 1 + eps) return;
+             const double cu = std::clamp(u, 0.0, 1.0), cv = std::clamp(v, 0.0, 1.0 - cu);
+             hits.push_back({f, std::clamp(t, 0.0, 1.0), Eigen::Vector3d(1 - cu - cv, cu, cv)});
+           });
   std::sort(hits.begin(), hits.end(), [](const SegmentHit& x, const SegmentHit& y) { return x.t < y.t; });
   return hits;
 }

@@ -482,8 +482,8 @@ ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const c
     if (p.rows() > 0) {
       const Eigen::Vector3d x = p.row(0).transpose().cast<double>(), n(plane[0], plane[1], plane[2]);
       if (n.squaredNorm() > 0)
-        require_in_reach(placement, x - cga::scalar_product(cga::up<double>(x), plane) / n.squaredNorm() * n,
-                         "cut: the plane");
+        require_in_reach(placed_box(placement),
+                         x - cga::scalar_product(cga::up<double>(x), plane) / n.squaredNorm() * n, "cut: the plane");
       break;
     }
   ModelCut out;

@@ -22,18 +22,16 @@ using detail::Cylinder;
 using detail::Driller;
 using detail::make_cylinder;
 
-/// Per mesh, the faces whose boxes meet the box of the finite cylinder (a superset of those
-/// the drill meets): the drill's candidates, in every mesh, whether its axis pierces them or not.
+/// Per mesh, the faces near enough to the finite cylinder to meet it (a superset of those the
+/// drill meets, found around its axis, not in the box of a slanted drill, which can hold much of
+/// the model): the drill's candidates, in every mesh, whether its axis pierces them or not.
 std::vector<std::vector<int>> candidate_faces(const SurfaceIndex& index, const Cylinder& c) {
   const Eigen::Vector3d tip = c.base + c.length * c.axis;
-  // A disk of radius r about the unit axis n reaches r·√(1 − n_k²) along axis k.
-  const Eigen::Vector3d reach = c.radius * (Eigen::Vector3d::Ones() - c.axis.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
-  Eigen::Vector3d lo = c.base.cwiseMin(tip) - reach, hi = c.base.cwiseMax(tip) + reach;
-  const double margin = 1e-6 * (hi - lo).norm();  // the tree's boxes are floats
-  lo.array() -= margin;
-  hi.array() += margin;
+  // The finite cylinder lies within its radius of the axis segment; the tree's boxes are floats.
+  const double radius = c.radius + 1e-6 * (c.length + 2 * c.radius);
   std::vector<std::vector<int>> out(index.meshes.size());
-  for (std::size_t i = 0; i < index.meshes.size(); ++i) index.meshes[i].bvh.faces_in_box(lo, hi, out[i]);
+  for (std::size_t i = 0; i < index.meshes.size(); ++i)
+    index.meshes[i].bvh.faces_near_segment(c.base, tip, radius, out[i]);
   return out;
 }
 
@@ -76,11 +74,12 @@ void require_hit(const DrillStats& stats, const Placement& placement, const Surf
 }
 
 /// @throws InvalidInputError for a tip, base or radius far beyond the model (kMaxToolReach).
-void require_in_reach(const Placement& placement, const Eigen::Vector3d& tip, const Eigen::Vector3d& base,
+void require_in_reach(const SurfaceIndex& index, const Eigen::Vector3d& tip, const Eigen::Vector3d& base,
                       double radius) {
-  surgery::require_in_reach(placement, tip, "drill: the tip");
-  surgery::require_in_reach(placement, base, "drill: the base");
-  require_size_in_reach(placement, radius, "drill: the radius");
+  const PlacedBox box = placed_box(index);
+  surgery::require_in_reach(box, tip, "drill: the tip");
+  surgery::require_in_reach(box, base, "drill: the base");
+  require_size_in_reach(box, radius, "drill: the radius");
 }
 
 /// Whether an edit changes its mesh: a face that a disk inside it left as it was is re-emitted
@@ -107,8 +106,8 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
                  const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius, const DrillOptions& options) {
   require_placement_fits(model, placement);
   const Cylinder c = make_cylinder(tip, base, radius, options);
-  require_in_reach(placement, tip, base, radius);
   require_index_fits(model, index, "drill");
+  require_in_reach(index, tip, base, radius);
   const auto candidates = candidate_faces(index, c);
   ModelDrill out;
   std::vector<LocalEdit> edits(model.meshes.size());
@@ -156,7 +155,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
 LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                 const DrillOptions& options) {
   const Cylinder c = make_cylinder(tip, base, radius, options);
-  require_in_reach(live.placement(), tip, base, radius);
+  require_in_reach(live.index(), tip, base, radius);
   const auto candidates = candidate_faces(live.index(), c);
   const anim::RiggedModel& model = live.model();
   LiveDrill out;

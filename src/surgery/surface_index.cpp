@@ -5,6 +5,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/mesh/adjacency.hpp"
 #include "cgamesh/mesh/weld.hpp"
+
 #include "surgery_common.hpp"
 
 namespace cgamesh::surgery {

@@ -91,11 +91,13 @@ void require_placement_fits(const anim::RiggedModel& model, const Placement& pla
 
 namespace {
 
-/// The bounding box of every placed position, and its diagonal (lo > hi when empty).
-struct PlacedBox {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  [[nodiscard]] double diagonal() const { return (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0; }
-};
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
 
 PlacedBox placed_box(const Placement& placement) {
   PlacedBox b;
@@ -107,17 +109,18 @@ PlacedBox placed_box(const Placement& placement) {
   return b;
 }
 
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
+PlacedBox placed_box(const SurfaceIndex& index) {
+  PlacedBox b;
+  for (const MeshIndex& m : index.meshes)
+    if (m.bvh.face_count() > 0) {
+      b.lo = b.lo.cwiseMin(m.bvh.lower());
+      b.hi = b.hi.cwiseMax(m.bvh.upper());
+    }
+  return b;
 }
 
-}  // namespace
-
-void require_in_reach(const Placement& placement, const Eigen::Vector3d& point, const std::string& what) {
-  const PlacedBox b = placed_box(placement);
-  if (!(b.hi.array() >= b.lo.array()).all()) return;
+void require_in_reach(const PlacedBox& b, const Eigen::Vector3d& point, const std::string& what) {
+  if (b.empty()) return;
   const double reach = kMaxToolReach * std::max(b.diagonal(), 1e-30);
   const Eigen::Vector3d outside = (b.lo - point).cwiseMax(point - b.hi).cwiseMax(0.0);
   if (!(outside.stableNorm() <= reach))
@@ -126,9 +129,8 @@ void require_in_reach(const Placement& placement, const Eigen::Vector3d& point, 
                             "): no geometric sense for this model");
 }
 
-void require_size_in_reach(const Placement& placement, double length, const std::string& what) {
-  const PlacedBox b = placed_box(placement);
-  if (!(b.hi.array() >= b.lo.array()).all()) return;
+void require_size_in_reach(const PlacedBox& b, double length, const std::string& what) {
+  if (b.empty()) return;
   if (!(length <= kMaxToolReach * std::max(b.diagonal(), 1e-30)))
     throw InvalidInputError(what + " " + number(length) + " is more than " + number(kMaxToolReach) +
                             " times the model's size (" + number(b.diagonal()) +

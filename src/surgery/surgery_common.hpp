@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -17,8 +18,8 @@
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 #include "cgamesh/mesh/union_find.hpp"
-#include "cgamesh/mesh/weld.hpp"
 #include "cgamesh/mesh/vertex_source.hpp"
+#include "cgamesh/mesh/weld.hpp"
 #include "cgamesh/surgery/live_model.hpp"
 #include "cgamesh/surgery/local_edit.hpp"
 #include "cgamesh/surgery/placement.hpp"
@@ -50,12 +51,24 @@ using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// Length of the bounding-box diagonal of the rows of `points` (0 when empty).
 [[nodiscard]] double bounding_diagonal(const mesh::RowMatrixXf<3>& points);
 
+/// A box around the placed model, what tools are measured against (lo > hi when empty).
+struct PlacedBox {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  [[nodiscard]] bool empty() const { return !(hi.array() >= lo.array()).all(); }
+  [[nodiscard]] double diagonal() const { return empty() ? 0.0 : (hi - lo).norm(); }
+};
+/// The box of every placed position: O(#V), for operations that are O(#F) anyway.
+[[nodiscard]] PlacedBox placed_box(const Placement& placement);
+/// The union of the index's tree boxes (every placed face, a little more after edits): O(1) per
+/// mesh, so that an operation in place on a large mesh stays local.
+[[nodiscard]] PlacedBox placed_box(const SurfaceIndex& index);
+
 /// @throws InvalidInputError naming `what` (e.g. "drill: the tip") when `point` lies farther
-///         than kMaxToolReach diagonals from the bounding box of every placed mesh.
-void require_in_reach(const Placement& placement, const Eigen::Vector3d& point, const std::string& what);
-/// @throws InvalidInputError naming `what` when `length` exceeds kMaxToolReach diagonals of the
-///         bounding box of every placed mesh.
-void require_size_in_reach(const Placement& placement, double length, const std::string& what);
+///         than kMaxToolReach diagonals from `box`, the placed model's.
+void require_in_reach(const PlacedBox& box, const Eigen::Vector3d& point, const std::string& what);
+/// @throws InvalidInputError naming `what` when `length` exceeds kMaxToolReach diagonals of
+///         `box`, the placed model's.
+void require_size_in_reach(const PlacedBox& box, double length, const std::string& what);
 
 using mesh::position_key;
 using mesh::PositionHash;

@@ -26,14 +26,15 @@ auto trace_tear(const anim::RiggedModel& model, const Placement& placement, cons
     throw InvalidInputError("tear: the scalpel needs at least 2 time steps, got " + std::to_string(scalpel.size()));
   if (!(options.open >= 0) || !std::isfinite(options.open))
     throw InvalidInputError("tear: the opening width must be a finite number >= 0");
+  const PlacedBox box = placed_box(index);
   for (std::size_t i = 0; i < scalpel.size(); ++i) {
     if (!scalpel[i].handle.allFinite() || !scalpel[i].tip.allFinite())
       throw InvalidInputError("tear: scalpel step " + std::to_string(i) + " holds NaN or infinity");
     if (scalpel[i].handle == scalpel[i].tip)
       throw InvalidInputError("tear: scalpel step " + std::to_string(i) +
                               " has handle == tip (a blade of zero length)");
-    require_in_reach(placement, scalpel[i].handle, "tear: the handle of scalpel step " + std::to_string(i));
-    require_in_reach(placement, scalpel[i].tip, "tear: the tip of scalpel step " + std::to_string(i));
+    require_in_reach(box, scalpel[i].handle, "tear: the handle of scalpel step " + std::to_string(i));
+    require_in_reach(box, scalpel[i].tip, "tear: the tip of scalpel step " + std::to_string(i));
   }
   const auto first_hit = [&](std::size_t m, const Scalpel& s) {
     const auto hits = index.meshes[m].bvh.segment_hits(s.handle, s.tip);

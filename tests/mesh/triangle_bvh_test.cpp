@@ -108,6 +108,59 @@ TEST(TriangleBvh, EditedTreeAnswersLikeAFreshOne) {
   }
 }
 
+/// Distance from p to the segment [a, b].
+double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d d = b - a;
+  const double t = d.squaredNorm() > 0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (a + t * d - p).norm();
+}
+
+// The drill's candidates: every face with a point within the radius of the segment (checked on a
+// dense sampling of each face), each once, and only faces whose box comes near it — on an
+// edited tree too.
+TEST(TriangleBvh, FacesNearASegmentAreEveryFaceWithinTheRadius) {
+  std::mt19937 rng(5);
+  std::vector<Triangle> tris;
+  for (int i = 0; i < 2000; ++i) tris.push_back(random_triangle(rng, 0.2f));
+  mesh::TriangleBvh bvh = fresh(tris);
+  for (int i = 0; i < 50; ++i) {
+    tris.push_back(random_triangle(rng, 0.3f));
+    bvh.append(tris.back(), i);
+  }
+  std::uniform_real_distribution<double> coord(-1, 11);
+  for (int q = 0; q < 30; ++q) {
+    const Eigen::Vector3d a(coord(rng), coord(rng), coord(rng) * 0.1), b(coord(rng), coord(rng), coord(rng) * 0.1);
+    const double radius = q % 3 == 0 ? 0.0 : 0.05 * q;
+    std::vector<int> near;
+    bvh.faces_near_segment(a, q == 1 ? a : b, radius, near);
+    near = sorted(near);
+    EXPECT_TRUE(std::adjacent_find(near.begin(), near.end()) == near.end()) << "a face twice";
+    const Eigen::Vector3d end = q == 1 ? a : b;
+    for (std::size_t f = 0; f < tris.size(); ++f) {
+      double nearest = INFINITY, box_gap = 0;
+      Eigen::Vector3d lo = tris[f][0].cast<double>(), hi = lo;
+      for (const auto& x : tris[f]) {
+        lo = lo.cwiseMin(x.cast<double>());
+        hi = hi.cwiseMax(x.cast<double>());
+      }
+      for (int i = 0; i <= 20; ++i)
+        for (int j = 0; i + j <= 20; ++j) {
+          const Eigen::Vector3d p = ((20 - i - j) * tris[f][0] + i * tris[f][1] + j * tris[f][2]).cast<double>() / 20;
+          nearest = std::min(nearest, distance_to_segment(p, a, end));
+        }
+      // A face found lies within radius + its box's half diagonal of the segment.
+      box_gap = distance_to_segment(0.5 * (lo + hi), a, end) - 0.5 * (hi - lo).norm();
+      const bool found = std::binary_search(near.begin(), near.end(), static_cast<int>(f));
+      if (nearest <= radius) {
+        EXPECT_TRUE(found) << "face " << f << " at " << nearest << " of the segment, radius " << radius;
+      }
+      if (found) {
+        EXPECT_LE(box_gap, radius + 1e-9) << f;
+      }
+    }
+  }
+}
+
 TEST(TriangleBvh, EditsCheckTheirArguments) {
   std::mt19937 rng(3);
   mesh::TriangleBvh bvh = fresh({random_triangle(rng, 1), random_triangle(rng, 1)});

@@ -16,8 +16,8 @@ namespace cgamesh::mesh {
 /// Where a segment crosses a triangle.
 struct SegmentHit {
   int face = -1;
-  double t = 0;                     ///< segment parameter in [0, 1]: point = a + t (b - a)
-  Eigen::Vector3d barycentric;      ///< weights of the face's three corners
+  double t = 0;                 ///< segment parameter in [0, 1]: point = a + t (b - a)
+  Eigen::Vector3d barycentric;  ///< weights of the face's three corners
 };
 
 class TriangleBvh {
@@ -32,6 +32,14 @@ class TriangleBvh {
   TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces);
 
   [[nodiscard]] int face_count() const noexcept { return static_cast<int>(leaf_of_.size()); }
+  /// Corners of the root box, around every face (after edits it may be larger: boxes only grow);
+  /// meaningless when face_count() is 0.
+  [[nodiscard]] Eigen::Vector3d lower() const noexcept {
+    return nodes_.empty() ? Eigen::Vector3d::Zero().eval() : nodes_.front().lo.cast<double>().eval();
+  }
+  [[nodiscard]] Eigen::Vector3d upper() const noexcept {
+    return nodes_.empty() ? Eigen::Vector3d::Zero().eval() : nodes_.front().hi.cast<double>().eval();
+  }
   /// Length of the diagonal of the box around every face (0 when empty).
   [[nodiscard]] double diagonal() const noexcept {
     return nodes_.empty() ? 0.0 : static_cast<double>((nodes_.front().hi - nodes_.front().lo).norm());
@@ -42,6 +50,12 @@ class TriangleBvh {
   void faces_near_plane(const Eigen::Vector3d& n, double d, double tolerance, std::vector<int>& out) const;
   /// Appends to `out` every face whose bounding box meets the box [lo, hi].
   void faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int>& out) const;
+  /// Appends to `out` every face with a point within `radius` of the segment [a, b], and a few
+  /// more: those whose bounding box passes two necessary tests (the box grown by `radius` meets
+  /// the segment; the ball around the box comes within `radius` of it). What a capsule or a
+  /// finite cylinder about the segment can touch, found in time proportional to the region.
+  void faces_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
+                          std::vector<int>& out) const;
   /// Every face the closed segment [a, b] crosses, sorted by t (Möller–Trumbore in double).
   [[nodiscard]] std::vector<SegmentHit> segment_hits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
 
@@ -74,16 +88,16 @@ class TriangleBvh {
   void link_appended(int f, int previous, int next);
 
   std::vector<Node> nodes_;
-  std::vector<int> parent_;                ///< per node: its parent, −1 for the root
-  std::vector<int> order_;                 ///< face indices in leaf order; −1 for an erased face
-  std::vector<Eigen::Vector3f> corners_;   ///< 3 per face, by face index
-  std::vector<int> leaf_of_;               ///< per face: the leaf holding it
-  std::vector<int> slot_of_;               ///< per face: its index in order_, or −1 when appended
+  std::vector<int> parent_;               ///< per node: its parent, −1 for the root
+  std::vector<int> order_;                ///< face indices in leaf order; −1 for an erased face
+  std::vector<Eigen::Vector3f> corners_;  ///< 3 per face, by face index
+  std::vector<int> leaf_of_;              ///< per face: the leaf holding it
+  std::vector<int> slot_of_;              ///< per face: its index in order_, or −1 when appended
   // Faces added after the build: per leaf a doubly linked list (checked after the leaf's faces
   // in order_), so that appending and erasing allocate nothing.
-  std::vector<int> first_appended_;        ///< per node: its first appended face, or −1
-  std::vector<int> next_appended_;         ///< per face: the next appended face of its leaf, or −1
-  std::vector<int> previous_appended_;     ///< per face: the previous one, or −1 for the first
+  std::vector<int> first_appended_;     ///< per node: its first appended face, or −1
+  std::vector<int> next_appended_;      ///< per face: the next appended face of its leaf, or −1
+  std::vector<int> previous_appended_;  ///< per face: the previous one, or −1 for the first
 };
 
 }  // namespace cgamesh::mesh
