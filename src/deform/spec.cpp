@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -284,42 +285,44 @@ void check_key_count(const DeformSpec& s) {
   }
 }
 
-/// The vertices of `m` that an index list names: by the file's numbering where `m` keeps it
-/// (Mesh::file_index: in the order given, each file vertex's copies in ascending order), else
-/// by index.
-std::vector<int> vertices_of_indices(const std::vector<int>& indices, const mesh::Mesh& m, const std::string& field) {
-  const Eigen::Index count = m.vertex_count();
-  if (m.file_index.rows() == 0) {
-    for (const int v : indices)
-      if (v >= count) bad(field, "expected vertex indices in [0, " + std::to_string(count) + ")");
-    return indices;
+/// A mesh's vertices by the file's numbering (Mesh::file_index), sorted once per bind.
+class FileNumbering {
+ public:
+  explicit FileNumbering(const mesh::Mesh& m) {
+    by_file_.reserve(static_cast<std::size_t>(m.file_index.rows()));
+    for (Eigen::Index v = 0; v < m.file_index.rows(); ++v)
+      if (m.file_index[v] >= 0) by_file_.emplace_back(m.file_index[v], static_cast<int>(v));
+    std::sort(by_file_.begin(), by_file_.end());
   }
-  std::vector<std::pair<int, int>> by_file;  // (file vertex, vertex), sorted
-  by_file.reserve(static_cast<std::size_t>(count));
-  for (Eigen::Index v = 0; v < count; ++v)
-    if (m.file_index[v] >= 0) by_file.emplace_back(m.file_index[v], static_cast<int>(v));
-  std::sort(by_file.begin(), by_file.end());
-  const int file_count = by_file.empty() ? 0 : by_file.back().first + 1;
-  std::vector<int> out;
-  for (const int f : indices) {
-    if (f >= file_count) bad(field, "expected vertex indices of the file in [0, " + std::to_string(file_count) + ")");
-    auto it = std::lower_bound(by_file.begin(), by_file.end(), std::pair{f, -1});
-    if (it == by_file.end() || it->first != f)
-      bad(field, "vertex " + std::to_string(f) + " of the file is on no triangle of the loaded mesh (or was joined " +
-                     "with an identical vertex)");
-    for (; it != by_file.end() && it->first == f; ++it) out.push_back(it->second);
-  }
-  return out;
-}
 
-/// The vertices a selection picks from `positions` (#V×3, in the spec's space); index lists as
-/// vertices_of_indices() reads them for `m`, the mesh the positions are of (nullptr: indices
-/// into `positions`). `noun` names what the positions are in messages.
+  /// The vertices an index list of file vertices names: in the order given, each file vertex's
+  /// copies (split at seams) in ascending order.
+  [[nodiscard]] std::vector<int> vertices(const std::vector<int>& indices, const std::string& field) const {
+    const int file_count = by_file_.empty() ? 0 : by_file_.back().first + 1;
+    std::vector<int> out;
+    for (const int f : indices) {
+      if (f >= file_count) bad(field, "expected vertex indices of the file in [0, " + std::to_string(file_count) + ")");
+      auto it = std::lower_bound(by_file_.begin(), by_file_.end(), std::pair{f, -1});
+      if (it == by_file_.end() || it->first != f)
+        bad(field, "vertex " + std::to_string(f) + " of the file is on no triangle of the loaded mesh (or was joined " +
+                       "with an identical vertex)");
+      for (; it != by_file_.end() && it->first == f; ++it) out.push_back(it->second);
+    }
+    return out;
+  }
+
+ private:
+  std::vector<std::pair<int, int>> by_file_;  ///< (file vertex, vertex)
+};
+
+/// The vertices a selection picks from `positions` (#V×3, in the spec's space); index lists by
+/// `numbering` when given, else as indices into `positions`. `noun` names what the positions
+/// are in messages.
 std::vector<int> select(const HandleSelection& h, const mesh::RowMatrixXf<3>& positions, const std::string& field,
-                        const std::string& noun = "vertex", const mesh::Mesh* m = nullptr) {
+                        const std::string& noun = "vertex", const FileNumbering* numbering = nullptr) {
   const Eigen::Index count = positions.rows();
   if (h.kind == HandleSelection::Kind::indices) {
-    if (m != nullptr) return vertices_of_indices(h.indices, *m, field);
+    if (numbering != nullptr) return numbering->vertices(h.indices, field);
     for (const int v : h.indices)
       if (v >= count) bad(field, "expected " + noun + " indices in [0, " + std::to_string(count) + ")");
     return h.indices;
@@ -588,9 +591,14 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
   std::vector<int> node = mesh::weld_by_position(rest_);
   mesh::number_classes(node);
   std::vector<int> owner(static_cast<std::size_t>(rest_.rows()), -1);  // handle of each welded node
+  std::optional<FileNumbering> numbering;
+  if (target.file_index.rows() > 0 &&
+      std::any_of(spec.handles.begin(), spec.handles.end(),
+                  [](const HandleSelection& h) { return h.kind == HandleSelection::Kind::indices; }))
+    numbering.emplace(target);
   for (std::size_t h = 0; h < spec.handles.size(); ++h) {
     const std::string field = "handles[" + std::to_string(h) + "]";
-    handles_.push_back(select(spec.handles[h], rest_, field, "vertex", &target));
+    handles_.push_back(select(spec.handles[h], rest_, field, "vertex", numbering ? &*numbering : nullptr));
     for (const int v : handles_.back()) {
       int& o = owner[static_cast<std::size_t>(node[static_cast<std::size_t>(v)])];
       if (o >= 0 && o != static_cast<int>(h))
