@@ -11,6 +11,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "../parallel_for.hpp"
+#include "skinning_blocks.hpp"
 
 namespace cgamesh::anim {
 namespace {
@@ -120,7 +121,125 @@ void skin_blended_normals(const Mesh& mesh, std::span<const V> palette, Eigen::I
   }
 }
 
+/// The scalar kernel, positions: one vertex at a time.
+void skin_positions(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
+                    RowMatrixXf<3>& out) {
+  const auto& rest = mesh.positions;
+  switch (p.mode) {
+    case SkinningMode::cga:
+    case SkinningMode::matrix:
+      for (Eigen::Index i = begin; i < end; ++i) {
+        const Eigen::Vector3f x = rest.row(i).transpose();
+        Eigen::Vector3f y = Eigen::Vector3f::Zero();
+        for_each_influence(mesh, i, [&](int k, float w) {
+          const auto& a = p.affine[k];
+          y += w * (a.leftCols<3>() * x + a.col(3));
+        });
+        out.row(i) = y.transpose();
+      }
+      return;
+    case SkinningMode::versor:
+      if (!p.motors.empty())
+        skin_blended(mesh, std::span(p.motors), begin, end, out);
+      else
+        skin_blended(mesh, std::span(p.versors), begin, end, out);
+      return;
+    case SkinningMode::dqs:
+      for (Eigen::Index i = begin; i < end; ++i) {
+        Eigen::Quaternionf q, d;
+        blend_dual_quaternion(mesh, p, i, q, d);
+        const Eigen::Vector3f t = 2.0f * (d * q.conjugate()).vec();
+        Eigen::Vector3f x = rest.row(i).transpose();
+        if (!p.scales.empty()) x = blend_scale(mesh, p, i) * x;
+        out.row(i) = (q * x + t).transpose();
+      }
+      return;
+  }
+}
+
+/// The scalar kernel, normals (mesh.normals has #V rows).
+void skin_normal_rows(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
+                      RowMatrixXf<3>& out) {
+  switch (p.mode) {
+    case SkinningMode::cga:
+    case SkinningMode::matrix:
+      for (Eigen::Index i = begin; i < end; ++i) {
+        Eigen::Matrix3f l = Eigen::Matrix3f::Zero();
+        for_each_influence(mesh, i, [&](int k, float w) { l += w * p.affine[k].leftCols<3>(); });
+        out.row(i) = (cofactor(l) * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
+      }
+      break;
+    case SkinningMode::versor:
+      if (!p.motors.empty())
+        skin_blended_normals(mesh, std::span(p.motors), begin, end, out);
+      else
+        skin_blended_normals(mesh, std::span(p.versors), begin, end, out);
+      break;
+    case SkinningMode::dqs:
+      for (Eigen::Index i = begin; i < end; ++i) {
+        Eigen::Quaternionf q, d;
+        blend_dual_quaternion(mesh, p, i, q, d);
+        Eigen::Vector3f n = mesh.normals.row(i).transpose();
+        if (!p.scales.empty()) n = cofactor(blend_scale(mesh, p, i)) * n;
+        out.row(i) = (q * n).transpose();
+      }
+      break;
+  }
+  for (Eigen::Index i = begin; i < end; ++i) {
+    const float len = out.row(i).norm();
+    if (len > 0 && std::isfinite(len))
+      out.row(i) /= len;
+    else
+      out.row(i) = mesh.normals.row(i);
+  }
+}
+
+/// Fills p.packed from the mode's entries (layout in SkinningPalette).
+void pack(SkinningPalette& p) {
+  const auto append = [&p](const auto& coefficients, int count) {
+    for (int c = 0; c < count; ++c) p.packed.push_back(static_cast<float>(coefficients[c]));
+  };
+  switch (p.mode) {
+    case SkinningMode::cga:
+    case SkinningMode::matrix:
+      p.packed_stride = 16;
+      for (const auto& a : p.affine)
+        for (int c = 0; c < 4; ++c) {
+          append(a.col(c), 3);
+          p.packed.push_back(0.0f);
+        }
+      break;
+    case SkinningMode::versor:
+      if (!p.motors.empty()) {
+        p.packed_stride = 8;
+        for (const auto& m : p.motors) append(m, 8);
+      } else {
+        p.packed_stride = 16;
+        for (const auto& v : p.versors) append(v, 16);
+      }
+      break;
+    case SkinningMode::dqs:
+      p.packed_stride = p.scales.empty() ? 8 : 17;
+      for (std::size_t k = 0; k < p.dual_quats.size(); ++k) {
+        append(p.dual_quats[k], 8);
+        if (!p.scales.empty()) append(p.scales[k].data(), 9);
+      }
+      break;
+  }
+}
+
+/// Kernel `k` resolved (automatic: the fastest available); throws when it cannot run here.
+SkinningKernel resolve(SkinningKernel k) {
+  if (k == SkinningKernel::automatic) return detail::cpu_has_avx2_fma() ? SkinningKernel::avx2 : SkinningKernel::vector;
+  if (!kernel_available(k)) throw InvalidInputError("skinning: this processor has no AVX2 and FMA for the avx2 kernel");
+  return k;
+}
+
 }  // namespace
+
+bool kernel_available(SkinningKernel kernel) noexcept {
+  return kernel != SkinningKernel::avx2 || detail::cpu_has_avx2_fma();
+}
 
 SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
                              std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode) {
@@ -157,8 +276,9 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
       }
     }
   }
-  // Rigid joints: the first phase is the identity, skip it.
-  if (std::all_of(p.scales.begin(), p.scales.end(), [](const Eigen::Matrix3f& s) { return s.isIdentity(1e-6f); }))
+  // Rigid joints: the first phase is the identity, skip it. Polar factors of float inverse binds
+  // are a few 1e-7 off the identity on rigid rigs (CesiumMan: up to 1.7e-6): noise, not scale.
+  if (std::all_of(p.scales.begin(), p.scales.end(), [](const Eigen::Matrix3f& s) { return s.isIdentity(1e-5f); }))
     p.scales.clear();
   // Without dilations every palette versor is a motor: blend 8 coefficients instead of 16.
   if (mode == SkinningMode::versor) {
@@ -168,41 +288,28 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
     if (rigid)
       for (const cga::Versor<float>& v : p.versors) p.motors.push_back(cga::project<cga::mask::motor>(v));
   }
+  pack(p);
   return p;
 }
 
-void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end, RowMatrixXf<3>& out) {
-  const auto& rest = mesh.positions;
-  switch (p.mode) {
-    case SkinningMode::cga:
-    case SkinningMode::matrix:
-      for (Eigen::Index i = begin; i < end; ++i) {
-        const Eigen::Vector3f x = rest.row(i).transpose();
-        Eigen::Vector3f y = Eigen::Vector3f::Zero();
-        for_each_influence(mesh, i, [&](int k, float w) {
-          const auto& a = p.affine[k];
-          y += w * (a.leftCols<3>() * x + a.col(3));
-        });
-        out.row(i) = y.transpose();
-      }
-      return;
-    case SkinningMode::versor:
-      if (!p.motors.empty())
-        skin_blended(mesh, std::span(p.motors), begin, end, out);
-      else
-        skin_blended(mesh, std::span(p.versors), begin, end, out);
-      return;
-    case SkinningMode::dqs:
-      for (Eigen::Index i = begin; i < end; ++i) {
-        Eigen::Quaternionf q, d;
-        blend_dual_quaternion(mesh, p, i, q, d);
-        const Eigen::Vector3f t = 2.0f * (d * q.conjugate()).vec();
-        Eigen::Vector3f x = rest.row(i).transpose();
-        if (!p.scales.empty()) x = blend_scale(mesh, p, i) * x;
-        out.row(i) = (q * x + t).transpose();
-      }
-      return;
+void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
+                RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel) {
+  kernel = resolve(kernel);
+  normals = normals && mesh.normals.rows() > 0 ? normals : nullptr;
+  if (kernel != SkinningKernel::scalar) {
+    const detail::BlockKernel blocks =
+        kernel == SkinningKernel::avx2 ? detail::skin_blocks_avx2 : detail::skin_blocks_vector;
+    const detail::BlockJob job{&mesh, &p, positions.data(), normals ? normals->data() : nullptr};
+    // A block a lane cannot do runs one vertex at a time (which reports the problem).
+    for (Eigen::Index stop; (stop = blocks(job, begin, end)) < end - (end - begin) % 8;) {
+      skin_positions(mesh, p, stop, stop + 8, positions);
+      if (normals) skin_normal_rows(mesh, p, stop, stop + 8, *normals);
+      begin = stop + 8;
+    }
+    begin = end - (end - begin) % 8;
   }
+  skin_positions(mesh, p, begin, end, positions);
+  if (normals) skin_normal_rows(mesh, p, begin, end, *normals);
 }
 
 Eigen::Matrix<double, 3, 4> blended_affine(const Mesh& mesh, const SkinningPalette& palette, Eigen::Index i) {
@@ -211,54 +318,29 @@ Eigen::Matrix<double, 3, 4> blended_affine(const Mesh& mesh, const SkinningPalet
   return a;
 }
 
+void skin_into(const Mesh& mesh, const SkinningPalette& palette, RowMatrixXf<3>& positions, RowMatrixXf<3>* normals,
+               const SkinningOptions& options) {
+  if (mesh.normals.rows() != 0 && mesh.normals.rows() != mesh.vertex_count())
+    throw InvalidInputError("skinning: mesh '" + mesh.name + "' has " + std::to_string(mesh.normals.rows()) +
+                            " normals for " + std::to_string(mesh.vertex_count()) + " vertices");
+  const SkinningKernel kernel = resolve(options.kernel);
+  if (positions.rows() != mesh.vertex_count()) positions.resize(mesh.vertex_count(), 3);
+  if (normals && normals->rows() != mesh.normals.rows()) normals->resize(mesh.normals.rows(), 3);
+  detail::parallel_for(mesh.vertex_count(), options.threads, [&](Eigen::Index begin, Eigen::Index end) {
+    skin_range(mesh, palette, begin, end, positions, normals, kernel);
+  });
+}
+
 RowMatrixXf<3> skin(const Mesh& mesh, const SkinningPalette& palette, int threads) {
-  RowMatrixXf<3> out(mesh.vertex_count(), 3);
-  detail::parallel_for(mesh.vertex_count(), threads,
-                       [&](Eigen::Index begin, Eigen::Index end) { skin_range(mesh, palette, begin, end, out); });
+  RowMatrixXf<3> out;
+  skin_into(mesh, palette, out, nullptr, {.threads = threads});
   return out;
 }
 
-RowMatrixXf<3> skin_normals(const Mesh& mesh, const SkinningPalette& p, int threads) {
-  RowMatrixXf<3> out(mesh.normals.rows(), 3);
-  if (mesh.normals.rows() == 0) return out;
-  if (mesh.normals.rows() != mesh.vertex_count())
-    throw InvalidInputError("skin_normals: mesh '" + mesh.name + "' has " + std::to_string(mesh.normals.rows()) +
-                            " normals for " + std::to_string(mesh.vertex_count()) + " vertices");
-  detail::parallel_for(mesh.vertex_count(), threads, [&](Eigen::Index begin, Eigen::Index end) {
-    switch (p.mode) {
-      case SkinningMode::cga:
-      case SkinningMode::matrix:
-        for (Eigen::Index i = begin; i < end; ++i) {
-          Eigen::Matrix3f l = Eigen::Matrix3f::Zero();
-          for_each_influence(mesh, i, [&](int k, float w) { l += w * p.affine[k].leftCols<3>(); });
-          out.row(i) = (cofactor(l) * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
-        }
-        break;
-      case SkinningMode::versor:
-        if (!p.motors.empty())
-          skin_blended_normals(mesh, std::span(p.motors), begin, end, out);
-        else
-          skin_blended_normals(mesh, std::span(p.versors), begin, end, out);
-        break;
-      case SkinningMode::dqs:
-        for (Eigen::Index i = begin; i < end; ++i) {
-          Eigen::Quaternionf q, d;
-          blend_dual_quaternion(mesh, p, i, q, d);
-          Eigen::Vector3f n = mesh.normals.row(i).transpose();
-          if (!p.scales.empty()) n = cofactor(blend_scale(mesh, p, i)) * n;
-          out.row(i) = (q * n).transpose();
-        }
-        break;
-    }
-    for (Eigen::Index i = begin; i < end; ++i) {
-      const float len = out.row(i).norm();
-      if (len > 0 && std::isfinite(len))
-        out.row(i) /= len;
-      else
-        out.row(i) = mesh.normals.row(i);
-    }
-  });
-  return out;
+RowMatrixXf<3> skin_normals(const Mesh& mesh, const SkinningPalette& palette, int threads) {
+  RowMatrixXf<3> positions, normals;
+  skin_into(mesh, palette, positions, &normals, {.threads = threads});
+  return normals;
 }
 
 RowMatrixXf<3> skin_cga_reference(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga) {

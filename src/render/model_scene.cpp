@@ -190,8 +190,7 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
     for (const mesh::Mesh& m : model.meshes) {
       const anim::SkinningPalette palette = anim::make_palette(m, gv, gm, o.skinning);
       DrawMesh d;
-      d.positions = anim::skin(m, palette);
-      d.normals = anim::skin_normals(m, palette);
+      anim::skin_into(m, palette, d.positions, &d.normals);
       d.faces = m.faces;
       const std::size_t mi = static_cast<std::size_t>(&m - model.meshes.data());
       const auto mesh_pieces = [&] {

@@ -23,6 +23,23 @@ namespace cgamesh::anim {
 
 enum class SkinningMode { cga, versor, matrix, dqs };
 
+/// Which code runs the per-vertex work. Every kernel computes the same thing (tested equal to
+/// `scalar` within float rounding); `automatic` takes the fastest the processor has.
+///   scalar - one vertex at a time, the reference.
+///   vector - blocks of 8 vertices laid out across vector lanes (structure of arrays), built
+///            for the baseline x86-64 instruction set (SSE2): runs on any x86-64.
+///   avx2   - the same blocks compiled for AVX2 and FMA, chosen at run time when present.
+enum class SkinningKernel { automatic, scalar, vector, avx2 };
+
+/// True when `kernel` can run on this processor (`automatic`, `scalar`, `vector`: always).
+[[nodiscard]] bool kernel_available(SkinningKernel kernel) noexcept;
+
+/// How skin() and skin_into() split and run the work.
+struct SkinningOptions {
+  int threads = 0;  ///< threads to split over (0: all hardware threads; small meshes run inline)
+  SkinningKernel kernel = SkinningKernel::automatic;
+};
+
 /// What one frame's skinning of one mesh needs per palette entry (built per frame, small).
 struct SkinningPalette {
   SkinningMode mode = SkinningMode::cga;
@@ -33,6 +50,13 @@ struct SkinningPalette {
   /// dqs: scale/shear S_n of each M_n B_n = [R t] S_n, applied before the dual quaternions
   /// (Kavan et al. 2008, two-phase skinning); empty when every joint is rigid.
   std::vector<Eigen::Matrix3f> scales;
+  /// The entries above packed for the vector kernels, `packed_stride` floats per palette entry:
+  /// cga, matrix - the columns of [A b], each padded to 4 floats (16);
+  /// versor - the motor's 8 or the versor's 16 coefficients in storage order;
+  /// dqs - the dual quaternion's 8, then (when `scales` is not empty) the 9 of S column-major
+  /// (17).
+  std::vector<float> packed;
+  int packed_stride = 0;
 };
 
 /// Builds the palette of `mesh` for one frame. A mesh without a skin follows its node.
@@ -42,9 +66,23 @@ struct SkinningPalette {
 [[nodiscard]] SkinningPalette make_palette(const mesh::Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
                                            std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode);
 
-/// Skins vertices [begin, end) of `mesh` into the same rows of `out` (#V x 3): one job.
+/// Skins vertices [begin, end) of `mesh` into the same rows of `positions` (#V×3) and, when
+/// `normals` is not null, its normals into the rows of `*normals` (#V×3; as skin_normals()):
+/// one job, on the calling thread.
+/// @throws InvalidInputError when `kernel` cannot run here (kernel_available()).
 void skin_range(const mesh::Mesh& mesh, const SkinningPalette& palette, Eigen::Index begin, Eigen::Index end,
-                mesh::RowMatrixXf<3>& out);
+                mesh::RowMatrixXf<3>& positions, mesh::RowMatrixXf<3>* normals = nullptr,
+                SkinningKernel kernel = SkinningKernel::automatic);
+
+/// Skins every vertex into caller-owned arrays, resized when their row count differs: a
+/// renderer that keeps them from frame to frame allocates nothing per frame.
+/// @param[out] positions  #V×3 posed positions
+/// @param[out] normals    null, or #V×3 posed unit normals (as skin_normals(); 0 rows when the
+///                        mesh has none), skinned in the same pass as the positions
+/// @throws InvalidInputError when the mesh's normals are neither 0 nor #V rows, or `kernel`
+///         cannot run here.
+void skin_into(const mesh::Mesh& mesh, const SkinningPalette& palette, mesh::RowMatrixXf<3>& positions,
+               mesh::RowMatrixXf<3>* normals = nullptr, const SkinningOptions& options = {});
 
 /// Skins every vertex, split into jobs over `threads` threads (0: all hardware threads).
 [[nodiscard]] mesh::RowMatrixXf<3> skin(const mesh::Mesh& mesh, const SkinningPalette& palette, int threads = 0);

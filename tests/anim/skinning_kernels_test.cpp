@@ -1,0 +1,119 @@
+// The vector kernels (blocks of 8 vertices, baseline and AVX2 builds) against the scalar one.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "cgamesh/anim/pose.hpp"
+#include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/errors.hpp"
+#include "cgamesh/io/model_loader.hpp"
+
+#include "anim/model_fixtures.hpp"
+
+namespace {
+
+using namespace cgamesh;
+using anim::SkinningKernel;
+using anim::SkinningMode;
+
+constexpr SkinningMode kModes[] = {SkinningMode::cga, SkinningMode::versor, SkinningMode::matrix, SkinningMode::dqs};
+
+std::vector<SkinningKernel> fast_kernels() {
+  std::vector<SkinningKernel> out{SkinningKernel::vector};
+  if (anim::kernel_available(SkinningKernel::avx2)) out.push_back(SkinningKernel::avx2);
+  return out;
+}
+
+struct Frame {
+  mesh::RowMatrixXf<3> positions, normals;
+};
+
+Frame skin(const mesh::Mesh& m, const anim::SkinningPalette& p, SkinningKernel kernel) {
+  Frame f;
+  anim::skin_into(m, p, f.positions, &f.normals, {.threads = 1, .kernel = kernel});
+  return f;
+}
+
+/// Every mode and fast kernel equals the scalar kernel on the model's meshes in `pose`.
+void expect_kernels_agree(const anim::RiggedModel& model, const anim::Pose& pose) {
+  const auto gv = anim::global_versors(model.skeleton, pose);
+  const auto gm = anim::global_matrices(model.skeleton, pose);
+  for (const mesh::Mesh& m : model.meshes)
+    for (SkinningMode mode : kModes) {
+      const anim::SkinningPalette p = anim::make_palette(m, gv, gm, mode);
+      const Frame ref = skin(m, p, SkinningKernel::scalar);
+      // Float rounding, relative to the model's size. The 16-coefficient versor sandwich is the
+      // least well conditioned: on huesitos.fbx (scaled joints, coordinates in the hundreds) the
+      // scalar kernel itself is 3e-6 of the size away from the same sandwich in double.
+      const double size = (ref.positions.colwise().maxCoeff() - ref.positions.colwise().minCoeff()).norm() *
+                          (mode == SkinningMode::versor && p.motors.empty() ? 5.0 : 1.0);
+      for (SkinningKernel kernel : fast_kernels()) {
+        SCOPED_TRACE(m.name + " mode " + std::to_string(static_cast<int>(mode)) + " kernel " +
+                     std::to_string(static_cast<int>(kernel)));
+        const Frame f = skin(m, p, kernel);
+        ASSERT_EQ(f.positions.rows(), m.vertex_count());
+        ASSERT_EQ(f.normals.rows(), m.normals.rows());
+        EXPECT_LE((f.positions - ref.positions).rowwise().norm().maxCoeff(), 2e-6 * size);
+        if (m.normals.rows() > 0) {
+          EXPECT_LE((f.normals - ref.normals).rowwise().norm().maxCoeff(), 1e-4);
+        }
+        // A range that starts and ends inside blocks: blocks from its start, the rest alone.
+        ASSERT_GE(m.vertex_count(), 29);
+        mesh::RowMatrixXf<3> part = mesh::RowMatrixXf<3>::Zero(m.vertex_count(), 3);
+        anim::skin_range(m, p, 3, 29, part, nullptr, kernel);
+        EXPECT_LE((part.middleRows(3, 26) - ref.positions.middleRows(3, 26)).rowwise().norm().maxCoeff(), 2e-6 * size);
+        EXPECT_EQ(part.topRows(3).squaredNorm() + part.bottomRows(m.vertex_count() - 29).squaredNorm(), 0.0f);
+      }
+    }
+}
+
+TEST(SkinningKernels, EveryKernelEqualsTheScalarOneOnRealModels) {
+  auto models = cgamesh_test::gltf_samples();
+  for (const char* f : {"X/Testwuson.X", "FBX/huesitos.fbx"})
+    if (std::filesystem::exists(cgamesh_test::assimp_model(f))) models.push_back(cgamesh_test::assimp_model(f));
+  for (const auto& path : models) {
+    SCOPED_TRACE(path.string());
+    const anim::RiggedModel model = io::load_model(path);
+    for (double t : {0.2, 0.9})
+      expect_kernels_agree(model, model.clips.empty()
+                                      ? anim::rest_pose(model.skeleton)
+                                      : anim::sample(model.skeleton, model.clips[0], t, anim::BlendMode::format));
+  }
+}
+
+// Scaled joints: dqs blends S first, versor blends 16 coefficients (dilators) and renormalises
+// with the general closed form; a static mesh follows its node.
+TEST(SkinningKernels, EveryKernelEqualsTheScalarOneWithScaledJointsAndStaticMeshes) {
+  anim::RiggedModel model = io::load_model(cgamesh_test::demo_model());
+  anim::Pose pose = anim::sample(model.skeleton, model.clips[0], 0.5, anim::BlendMode::format);
+  const std::vector<anim::JointEdit> edits{
+      {.joint = 0, .scale = 1.7}, {.joint = 5, .scale = 0.6}, {.joint = 12, .scale = 1.4}};
+  anim::apply_edits(pose, edits);
+  mesh::Mesh still = model.meshes[0];
+  still.skin = {};
+  still.node = 3;
+  model.meshes.push_back(still);
+  expect_kernels_agree(model, pose);
+  const auto gv = anim::global_versors(model.skeleton, pose);
+  const auto gm = anim::global_matrices(model.skeleton, pose);
+  const auto p = anim::make_palette(model.meshes[0], gv, gm, SkinningMode::versor);
+  EXPECT_TRUE(p.motors.empty()) << "the scaled pose must exercise the 16-coefficient versor path";
+  EXPECT_FALSE(anim::make_palette(model.meshes[0], gv, gm, SkinningMode::dqs).scales.empty());
+}
+
+TEST(SkinningKernels, AutomaticTakesAvx2WhenThereAndEveryOtherKernelRuns) {
+  EXPECT_TRUE(anim::kernel_available(SkinningKernel::automatic));
+  EXPECT_TRUE(anim::kernel_available(SkinningKernel::scalar));
+  EXPECT_TRUE(anim::kernel_available(SkinningKernel::vector));
+  if (!anim::kernel_available(SkinningKernel::avx2)) {
+    const anim::RiggedModel model = io::load_model(cgamesh_test::demo_model());
+    const auto pose = anim::rest_pose(model.skeleton);
+    const auto p = anim::make_palette(model.meshes[0], anim::global_versors(model.skeleton, pose),
+                                      anim::global_matrices(model.skeleton, pose), SkinningMode::cga);
+    mesh::RowMatrixXf<3> out;
+    EXPECT_THROW(anim::skin_into(model.meshes[0], p, out, nullptr, {.kernel = SkinningKernel::avx2}),
+                 InvalidInputError);
+  }
+}
+
+}  // namespace
