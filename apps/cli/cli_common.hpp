@@ -31,7 +31,7 @@ using io::max_translation;
 using io::number;
 using io::parse_edit;
 using io::parse_numbers;
-using io::posed_positions;
+using io::posed_frame;
 
 using Json = nlohmann::ordered_json;
 

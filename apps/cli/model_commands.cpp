@@ -104,24 +104,25 @@ void run_pose(const PoseOptions& o) {
   check_outputs({o.output}, {o.model}, o.force);
   const anim::RiggedModel model = cli::load_model(o.model);
   const PoseChoice::Chosen chosen = o.pose.choose(model);
-  const auto positions = posed_positions(model, chosen.pose, o.skinning);
+  const io::PosedFrame posed = posed_frame(model, chosen.pose, o.skinning);
   if (is_gltf_path(o.output)) {
-    // The posed frame as a static glTF: world-space positions, no skin, one root node.
+    // The posed frame as a static glTF: world-space positions and skinned normals, no skin,
+    // one root node.
     anim::RiggedModel frame;
     anim::EditableSkeleton root;
     root.joints.push_back({"root", -1, {}});
     frame.skeleton = anim::Skeleton::build(root);
     for (std::size_t i = 0; i < model.meshes.size(); ++i) {
       mesh::Mesh m = model.meshes[i];
-      m.positions = positions[i];
-      m.normals.resize(0, 3);  // rest-pose normals do not fit the posed positions
+      m.positions = posed.positions[i];
+      m.normals = posed.normals[i];
       m.skin = {};
       m.node = -1;
       frame.meshes.push_back(std::move(m));
     }
     io::write_gltf(frame, o.output);
   } else {
-    io::write_mesh(model.meshes, positions, o.output);
+    io::write_mesh(model.meshes, posed.positions, o.output, posed.normals);
   }
   const std::vector<std::string> warnings = all_warnings(model, chosen.warnings);
   if (o.json) {
@@ -212,7 +213,8 @@ void add_pose(CLI::App& app) {
   auto o = std::make_shared<PoseOptions>();
   CLI::App* sub = app.add_subcommand(
       "pose",
-      "Write the world-space posed geometry of all meshes (OBJ, PLY, or a static glTF); default: the bind pose");
+      "Write the world-space posed geometry of all meshes, with skinned normals (OBJ, PLY, or a static glTF); "
+      "default: the bind pose");
   sub->add_option("MODEL", o->model, "model file")->required();
   sub->add_option("-o,--output", o->output, "output file: .obj, .ply, .glb or .gltf")->required();
   o->pose.add_to(*sub);

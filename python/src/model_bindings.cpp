@@ -308,14 +308,15 @@ void add_model(py::module_& m) {
             } else {
               const anim::Pose p = pose_or_bind(me.model, pose);
               py::gil_scoped_release release;
-              io::write_mesh(me.model.meshes, io::posed_positions(me.model, p, anim::SkinningMode::cga), path);
+              const io::PosedFrame frame = io::posed_frame(me.model, p, anim::SkinningMode::cga);
+              io::write_mesh(me.model.meshes, frame.positions, path, frame.normals);
             }
             return warnings;
           },
           py::arg("path"), py::arg("pose") = py::none(),
           "Writes the model: .glb/.gltf as `cgamesh convert` (rigged: skin, skeleton, clips), .obj/.ply as "
-          "`cgamesh pose` (world space, in `pose` or the bind pose, cga skinning). Atomic: on an error nothing is "
-          "written. Returns the writer's warnings (list of str). Releases the GIL.")
+          "`cgamesh pose` (world space, in `pose` or the bind pose, cga skinning, with skinned normals). Atomic: on "
+          "an error nothing is written. Returns the writer's warnings (list of str). Releases the GIL.")
       .def("pose", &make_pose, py::arg("clip") = py::none(), py::arg("time") = py::none(), py::arg("blend") = "format",
            py::arg("edits") = py::list(),
            "A Pose, as the CLI's --anim/--time/--blend/--set choose it: the bind pose when clip and time are None; "

@@ -70,6 +70,10 @@ def test_save_obj_and_glb_equal_the_cli(tmp_path, cesium):
     run_cli("pose", CESIUM, "-o", tmp_path / "cli.obj")
     cesium.save(str(tmp_path / "py.obj"))
     assert (tmp_path / "py.obj").read_bytes() == (tmp_path / "cli.obj").read_bytes()
+    lines = (tmp_path / "py.obj").read_text().splitlines()
+    normals = np.array([[float(x) for x in line.split()[1:]] for line in lines if line.startswith("vn ")])
+    assert normals.shape == cesium.meshes[0].normals.shape  # skinned normals, one per vertex
+    np.testing.assert_allclose(np.linalg.norm(normals, axis=1), 1, atol=1e-5)
     # glTF: what `cgamesh convert` writes.
     run_cli("convert", CESIUM, "-o", tmp_path / "cli.glb")
     cesium.save(str(tmp_path / "py.glb"))

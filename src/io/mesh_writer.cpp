@@ -22,11 +22,20 @@ std::string label(const mesh::Mesh& m, std::size_t index) {
   return "mesh " + std::to_string(index) + (m.name.empty() ? std::string() : " ('" + m.name + "')");
 }
 
+using Rows3 = std::span<const mesh::RowMatrixXf<3>>;
+
+/// Whether mesh i has normals to write (checked: 0 or #V rows).
+bool has_normals(std::span<const mesh::Mesh> meshes, Rows3 normals, std::size_t i) {
+  return !normals.empty() && meshes[i].vertex_count() > 0 && normals[i].rows() == meshes[i].vertex_count();
+}
+
 /// Checks the inputs; returns the total vertex count.
-std::int64_t check(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions) {
+std::int64_t check(std::span<const mesh::Mesh> meshes, Rows3 positions, Rows3 normals) {
   if (meshes.empty()) invalid("no meshes to write");
   if (positions.size() != meshes.size())
     invalid(std::to_string(positions.size()) + " position sets for " + std::to_string(meshes.size()) + " meshes");
+  if (!normals.empty() && normals.size() != meshes.size())
+    invalid(std::to_string(normals.size()) + " normal sets for " + std::to_string(meshes.size()) + " meshes");
   std::int64_t total = 0;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     const mesh::Mesh& m = meshes[i];
@@ -35,6 +44,12 @@ std::int64_t check(std::span<const mesh::Mesh> meshes, std::span<const mesh::Row
       invalid(label(m, i) + " has " + std::to_string(nv) + " vertices but " + std::to_string(positions[i].rows()) +
               " posed positions");
     if (!positions[i].allFinite()) invalid(label(m, i) + " has NaN or infinite posed positions");
+    if (!normals.empty()) {
+      if (normals[i].rows() != 0 && normals[i].rows() != nv)
+        invalid(label(m, i) + " has " + std::to_string(normals[i].rows()) + " posed normals for " + std::to_string(nv) +
+                " vertices");
+      if (!normals[i].allFinite()) invalid(label(m, i) + " has NaN or infinite posed normals");
+    }
     if (m.uvs.rows() != 0 && m.uvs.rows() != nv)
       invalid(label(m, i) + " has " + std::to_string(m.uvs.rows()) + " texture coordinates for " + std::to_string(nv) +
               " vertices");
@@ -67,22 +82,28 @@ std::string obj_name(const mesh::Mesh& m, std::size_t index) {
   return name;
 }
 
-std::string make_obj(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions) {
+/// `tag x y z` lines, one per row of `rows`.
+void append_rows(std::string& s, const char* tag, const mesh::RowMatrixXf<3>& rows) {
+  for (Eigen::Index v = 0; v < rows.rows(); ++v) {
+    s += tag;
+    for (int c = 0; c < 3; ++c) {
+      s += ' ';
+      append_float(s, rows(v, c));
+    }
+    s += '\n';
+  }
+}
+
+std::string make_obj(std::span<const mesh::Mesh> meshes, Rows3 positions, Rows3 normals) {
   std::string s = "# cgamesh posed mesh\n";
-  std::int64_t v_base = 1, vt_base = 1;
+  std::int64_t v_base = 1, vt_base = 1, vn_base = 1;
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     const mesh::Mesh& m = meshes[i];
     const auto& p = positions[i];
     const bool uv = m.uvs.rows() == m.vertex_count() && m.vertex_count() > 0;
+    const bool n = has_normals(meshes, normals, i);
     s += "o " + obj_name(m, i) + "\n";
-    for (Eigen::Index v = 0; v < p.rows(); ++v) {
-      s += "v";
-      for (int c = 0; c < 3; ++c) {
-        s += ' ';
-        append_float(s, p(v, c));
-      }
-      s += '\n';
-    }
+    append_rows(s, "v", p);
     if (uv)
       for (Eigen::Index v = 0; v < m.uvs.rows(); ++v) {
         s += "vt ";
@@ -91,20 +112,24 @@ std::string make_obj(std::span<const mesh::Mesh> meshes, std::span<const mesh::R
         append_float(s, m.uvs(v, 1));
         s += '\n';
       }
+    if (n) append_rows(s, "vn", normals[i]);
     for (Eigen::Index f = 0; f < m.face_count(); ++f) {
       s += "f";
       for (int c = 0; c < 3; ++c) {
         s += ' ';
         append_int(s, v_base + m.faces(f, c));
-        if (uv) {
+        if (uv || n) s += '/';
+        if (uv) append_int(s, vt_base + m.faces(f, c));
+        if (n) {
           s += '/';
-          append_int(s, vt_base + m.faces(f, c));
+          append_int(s, vn_base + m.faces(f, c));
         }
       }
       s += '\n';
     }
     v_base += p.rows();
     if (uv) vt_base += m.uvs.rows();
+    if (n) vn_base += normals[i].rows();
   }
   return s;
 }
@@ -113,19 +138,27 @@ void put_u32(std::string& s, std::uint32_t v) {
   for (int b = 0; b < 4; ++b) s += static_cast<char>((v >> (8 * b)) & 0xff);
 }
 
-std::string make_ply(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
-                     std::int64_t vertices) {
+std::string make_ply(std::span<const mesh::Mesh> meshes, Rows3 positions, Rows3 normals, std::int64_t vertices) {
   std::int64_t faces = 0;
   for (const mesh::Mesh& m : meshes) faces += m.face_count();
+  // One vertex element for all meshes: normals when every mesh that has vertices has them.
+  bool n = !normals.empty() && vertices > 0;
+  for (std::size_t i = 0; i < meshes.size(); ++i)
+    if (meshes[i].vertex_count() > 0 && !has_normals(meshes, normals, i)) n = false;
   std::string s = "ply\nformat binary_little_endian 1.0\ncomment generated by cgamesh\nelement vertex ";
   append_int(s, vertices);
-  s += "\nproperty float x\nproperty float y\nproperty float z\nelement face ";
+  s += "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (n) s += "property float nx\nproperty float ny\nproperty float nz\n";
+  s += "element face ";
   append_int(s, faces);
   s += "\nproperty list uchar int vertex_indices\nend_header\n";
-  s.reserve(s.size() + static_cast<std::size_t>(12 * vertices + 13 * faces));
-  for (const auto& p : positions)
-    for (Eigen::Index v = 0; v < p.rows(); ++v)
-      for (int c = 0; c < 3; ++c) put_u32(s, std::bit_cast<std::uint32_t>(p(v, c)));
+  s.reserve(s.size() + static_cast<std::size_t>((n ? 24 : 12) * vertices + 13 * faces));
+  for (std::size_t i = 0; i < meshes.size(); ++i)
+    for (Eigen::Index v = 0; v < positions[i].rows(); ++v) {
+      for (int c = 0; c < 3; ++c) put_u32(s, std::bit_cast<std::uint32_t>(positions[i](v, c)));
+      if (n)
+        for (int c = 0; c < 3; ++c) put_u32(s, std::bit_cast<std::uint32_t>(normals[i](v, c)));
+    }
   std::int64_t base = 0;
   for (const mesh::Mesh& m : meshes) {
     for (Eigen::Index f = 0; f < m.face_count(); ++f) {
@@ -139,18 +172,17 @@ std::string make_ply(std::span<const mesh::Mesh> meshes, std::span<const mesh::R
 
 }  // namespace
 
-EncodedFile encode_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
-                        const std::filesystem::path& out) {
+EncodedFile encode_mesh(std::span<const mesh::Mesh> meshes, Rows3 positions, const std::filesystem::path& out,
+                        Rows3 normals) {
   const std::string ext = detail::lower_extension(out);
   if (ext != ".obj" && ext != ".ply")
     invalid("unknown extension '" + out.extension().string() + "' of '" + out.string() + "' (expected .obj or .ply)");
-  const std::int64_t vertices = check(meshes, positions);
-  return {out, ext == ".obj" ? make_obj(meshes, positions) : make_ply(meshes, positions, vertices)};
+  const std::int64_t vertices = check(meshes, positions, normals);
+  return {out, ext == ".obj" ? make_obj(meshes, positions, normals) : make_ply(meshes, positions, normals, vertices)};
 }
 
-void write_mesh(std::span<const mesh::Mesh> meshes, std::span<const mesh::RowMatrixXf<3>> positions,
-                const std::filesystem::path& out) {
-  const EncodedFile file = encode_mesh(meshes, positions, out);
+void write_mesh(std::span<const mesh::Mesh> meshes, Rows3 positions, const std::filesystem::path& out, Rows3 normals) {
+  const EncodedFile file = encode_mesh(meshes, positions, out, normals);
   write_file_atomically(file.path, file.bytes);
 }
 

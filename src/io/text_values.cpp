@@ -141,4 +141,16 @@ std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model
   return out;
 }
 
+PosedFrame posed_frame(const anim::RiggedModel& model, const anim::Pose& pose, SkinningMode mode) {
+  const auto gv = anim::global_versors(model.skeleton, pose);
+  const auto gm = anim::global_matrices(model.skeleton, pose);
+  PosedFrame out;
+  for (const mesh::Mesh& m : model.meshes) {
+    const anim::SkinningPalette palette = anim::make_palette(m, gv, gm, mode);
+    out.positions.push_back(anim::skin(m, palette));
+    out.normals.push_back(anim::skin_normals(m, palette));
+  }
+  return out;
+}
+
 }  // namespace cgamesh::io

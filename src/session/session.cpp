@@ -484,8 +484,8 @@ void Session::save(const std::filesystem::path& path, anim::SkinningMode mode) c
   if (ext == ".glb" || ext == ".gltf") {
     io::write_files_atomically(io::encode_gltf(model(), path));
   } else if (ext == ".obj" || ext == ".ply") {
-    const std::vector<mesh::RowMatrixXf<3>> placed = io::posed_positions(model(), pose(), mode);
-    const io::EncodedFile f = io::encode_mesh(model().meshes, placed, path);
+    const io::PosedFrame frame = io::posed_frame(model(), pose(), mode);
+    const io::EncodedFile f = io::encode_mesh(model().meshes, frame.positions, path, frame.normals);
     io::write_files_atomically(std::span<const io::EncodedFile>(&f, 1));
   } else {
     throw InvalidInputError("save '" + path.string() + "': the file must be .glb, .gltf, .obj or .ply");

@@ -7,14 +7,17 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/io/text_values.hpp"
 
 #include "anim/model_fixtures.hpp"
 #include "apps/cli_util.hpp"
@@ -228,6 +231,68 @@ TEST(CliPose, StaticGltfFrameHoldsThePosedVertices) {
     EXPECT_LE(max_distance(again, obj), 1e-6 * diagonal(obj));
   }
   EXPECT_TRUE(fs::exists(dir / "frame.bin"));
+}
+
+TEST(CliPose, WritesSkinnedNormalsInEveryFormat) {
+  // The normals of io::posed_frame for the same pose (--time alone: the first clip, format blend,
+  // cga skinning): OBJ vn lines with v/vt/vn corners, PLY nx ny nz, a glTF NORMAL attribute.
+  namespace cg = cgamesh;
+  TempDir dir;
+  const cg::anim::RiggedModel model = cg::io::load_model(cesium());
+  const cg::io::PosedFrame frame =
+      cg::io::posed_frame(model, cg::anim::sample(model.skeleton, model.clips.at(0), 0.5, cg::anim::BlendMode::format),
+                          cg::anim::SkinningMode::cga);
+  const cg::mesh::RowMatrixXf<3>& expected = frame.normals.at(0);
+  ASSERT_EQ(expected.rows(), model.meshes.at(0).vertex_count());
+
+  run_ok(dir, {"pose", cesium().string(), "-o", (dir / "p.obj").string(), "--time", "0.5"});
+  std::ifstream obj(dir / "p.obj");
+  std::vector<Eigen::Vector3f> vn;
+  long v = 0, faces = 0;
+  for (std::string line; std::getline(obj, line);) {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v") ++v;
+    if (tag == "vn") {
+      Eigen::Vector3f n;
+      s >> n.x() >> n.y() >> n.z();
+      vn.push_back(n);
+    }
+    if (tag != "f") continue;
+    ++faces;
+    for (std::string corner; s >> corner;) {
+      const std::size_t a = corner.find('/'), b = corner.rfind('/');
+      ASSERT_TRUE(a != std::string::npos && b > a + 1) << "not v/vt/vn: " << line;
+      EXPECT_EQ(corner.substr(b + 1), corner.substr(0, a)) << line;  // one mesh: vn index = v index
+    }
+  }
+  EXPECT_EQ(faces, model.meshes[0].face_count());
+  ASSERT_EQ(static_cast<long>(vn.size()), v);
+  ASSERT_EQ(v, expected.rows());
+  for (std::size_t i = 0; i < vn.size(); ++i)
+    ASSERT_LT((vn[i] - expected.row(static_cast<Eigen::Index>(i)).transpose()).norm(), 1e-6f) << "vn " << i;
+
+  run_ok(dir, {"pose", cesium().string(), "-o", (dir / "p.ply").string(), "--time", "0.5"});
+  EXPECT_NE(
+      read_file(dir / "p.ply").find("property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"),
+      std::string::npos);
+  EXPECT_EQ(read_ply_vertices(dir / "p.ply").rows(), expected.rows());
+
+  for (const char* name : {"p.glb", "p.gltf"}) {
+    SCOPED_TRACE(name);
+    run_ok(dir, {"pose", cesium().string(), "-o", (dir / name).string(), "--time", "0.5"});
+    const cg::anim::RiggedModel again = cg::io::load_model(dir / name);
+    ASSERT_EQ(again.meshes.size(), 1u);
+    const cg::mesh::RowMatrixXf<3>& n = again.meshes[0].normals;
+    ASSERT_EQ(n.rows(), expected.rows()) << "no NORMAL attribute";
+    EXPECT_LT((n.rowwise().norm().array() - 1).abs().maxCoeff(), 1e-5f);
+    EXPECT_LT((n - expected).rowwise().norm().maxCoeff(), 1e-5f);
+    if (cgamesh_test::validator_available()) {
+      std::string log;
+      EXPECT_EQ(cgamesh_test::validate_gltf(dir / name, log), 0) << log;
+    }
+  }
 }
 
 // ---- convert ----------------------------------------------------------------------------------

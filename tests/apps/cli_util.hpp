@@ -111,7 +111,8 @@ inline Points read_obj_vertices(const fs::path& p) {
   return out;
 }
 
-/// The vertices of a binary little-endian PLY with float x y z (the layout cgamesh writes).
+/// The vertices of a binary little-endian PLY with float x y z, and maybe more float properties
+/// after them (nx ny nz: the layout cgamesh writes).
 inline Points read_ply_vertices(const fs::path& p) {
   const std::string bytes = read_file(p);
   const std::string end = "end_header\n";
@@ -129,9 +130,17 @@ inline Points read_ply_vertices(const fs::path& p) {
     return {};
   }
   const long count = std::stol(header.substr(at + tag.size()));
-  EXPECT_NE(header.find("property float x\nproperty float y\nproperty float z\n"), std::string::npos) << header;
+  const std::size_t xyz = header.find("property float x\nproperty float y\nproperty float z\n", at);
+  EXPECT_NE(xyz, std::string::npos) << header;
+  // Every property of the vertex element is a float (4 bytes).
+  const std::size_t element_end = std::min(header.find("element ", at + tag.size()), header.size());
+  std::size_t stride = 0;
+  for (std::size_t q = header.find("property ", at); q < element_end; q = header.find("property ", q + 1)) {
+    EXPECT_EQ(header.compare(q, 15, "property float "), 0) << header;
+    stride += 4;
+  }
   const std::size_t data = header_end + end.size();
-  if (bytes.size() < data + static_cast<std::size_t>(count) * 12) {
+  if (bytes.size() < data + static_cast<std::size_t>(count) * stride) {
     ADD_FAILURE() << p << ": file too short for " << count << " vertices";
     return {};
   }
@@ -139,7 +148,8 @@ inline Points read_ply_vertices(const fs::path& p) {
   for (long i = 0; i < count; ++i)
     for (int c = 0; c < 3; ++c) {
       float f = 0;
-      std::memcpy(&f, bytes.data() + data + static_cast<std::size_t>(12 * i + 4 * c), 4);  // little-endian host
+      std::memcpy(&f, bytes.data() + data + static_cast<std::size_t>(i) * stride + static_cast<std::size_t>(4 * c),
+                  4);  // little-endian host
       out(i, c) = f;
     }
   return out;

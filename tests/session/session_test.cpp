@@ -3,14 +3,21 @@
 #include "cgamesh/session/session.hpp"
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/io/text_values.hpp"
 #include "cgamesh/session/script.hpp"
 #include "cgamesh/surgery/pieces.hpp"
 #include "cgamesh/surgery/placement.hpp"
+
+#include "support/temp_dir.hpp"
 
 namespace {
 
@@ -204,6 +211,26 @@ TEST(Session, BadEditsAndTimesAreRefused) {
   EXPECT_THROW(s.set_time(NAN), InvalidInputError);
   EXPECT_THROW(s.set_clip(99), InvalidInputError);
   EXPECT_THROW(s.save("out.txt"), InvalidInputError);
+}
+
+TEST(Session, SavesThePoseWithSkinnedNormals) {
+  // .obj/.ply: the frame as posed now, positions and normals skinned in the mode asked for.
+  cgamesh_test::TempDir dir;
+  Session s(cesium());
+  s.set_clip(0);
+  s.set_time(0.5);
+  for (const char* name : {"now.obj", "now.ply"}) {
+    SCOPED_TRACE(name);
+    s.save(dir.path() / name, cgamesh::anim::SkinningMode::dqs);
+    const cgamesh::io::PosedFrame frame =
+        cgamesh::io::posed_frame(s.model(), s.pose(), cgamesh::anim::SkinningMode::dqs);
+    const std::string expected =
+        cgamesh::io::encode_mesh(s.model().meshes, frame.positions, dir.path() / name, frame.normals).bytes;
+    std::ifstream in(dir.path() / name, std::ios::binary);
+    const std::string written{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    EXPECT_TRUE(written == expected);
+    EXPECT_NE(written.find(name[4] == 'o' ? "\nvn " : "property float nx\n"), std::string::npos);
+  }
 }
 
 TEST(Script, ParsesEveryActionAndNamesTheLineOfABadOne) {

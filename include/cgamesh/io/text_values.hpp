@@ -60,4 +60,22 @@ inline constexpr double kMaxReach = 1e6;
 [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
                                                                 anim::SkinningMode mode);
 
+/// One posed frame of a model in world space, per mesh of the model: what posed_frame() gives
+/// and what a static file of the frame (OBJ, PLY, glTF) holds.
+struct PosedFrame {
+  std::vector<mesh::RowMatrixXf<3>> positions;  ///< per mesh, #V×3 posed positions
+  std::vector<mesh::RowMatrixXf<3>> normals;    ///< per mesh, #V×3 unit skinned normals, or 0 rows without normals
+};
+
+/// World-space positions and normals of every mesh in `pose`: the positions are
+/// posed_positions(), the normals anim::skin_normals() of the same palette (the rest normals
+/// turned by the linear part of each vertex's blended transform), so that they fit the posed
+/// surface. A mesh without normals gets 0 normal rows.
+/// @param[in] model  the model; a mesh's normals are #V×3 or 0 rows
+/// @param[in] pose   a pose of model.skeleton (one local transform per joint)
+/// @param[in] mode   the skinning of both positions and normals
+/// @throws InvalidInputError when a skin names a joint the pose does not have
+///         (anim::make_palette), or a mesh has a normal row count other than 0 or #V.
+[[nodiscard]] PosedFrame posed_frame(const anim::RiggedModel& model, const anim::Pose& pose, anim::SkinningMode mode);
+
 }  // namespace cgamesh::io

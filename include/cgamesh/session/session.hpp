@@ -160,7 +160,7 @@ class Session {
   [[nodiscard]] double size() const;
 
   /// Writes the model: .glb/.gltf with skin, skeleton and clips; .obj/.ply as posed now
-  /// (skinned with `mode`). All or nothing.
+  /// (positions and normals skinned with `mode`, io::posed_frame()). All or nothing.
   /// @throws InvalidInputError for another extension; WriteError when it cannot be written.
   void save(const std::filesystem::path& path, anim::SkinningMode mode = anim::SkinningMode::cga) const;
 
