@@ -146,9 +146,8 @@ PosedFrame posed_frame(const anim::RiggedModel& model, const anim::Pose& pose, S
   const auto gm = anim::global_matrices(model.skeleton, pose);
   PosedFrame out;
   for (const mesh::Mesh& m : model.meshes) {
-    const anim::SkinningPalette palette = anim::make_palette(m, gv, gm, mode);
-    out.positions.push_back(anim::skin(m, palette));
-    out.normals.push_back(anim::skin_normals(m, palette));
+    // Positions and normals in one skinning pass.
+    anim::skin_into(m, anim::make_palette(m, gv, gm, mode), out.positions.emplace_back(), &out.normals.emplace_back());
   }
   return out;
 }
