@@ -103,6 +103,35 @@ inline void transpose(V8 (&r)[8]) noexcept {
   }
 }
 
+inline V4 load4(const float* p) noexcept {
+  V4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+/// Columns 0-3 of the 4×4 blocks in the two halves of a[0..3]: out[c] = (a[0][c], a[1][c],
+/// a[2][c], a[3][c] | the same from the upper halves).
+inline void transpose_halves(const V8 (&a)[4], V8* out) noexcept {
+  const V8 t0 = __builtin_shufflevector(a[0], a[1], 0, 8, 1, 9, 4, 12, 5, 13);
+  const V8 t1 = __builtin_shufflevector(a[0], a[1], 2, 10, 3, 11, 6, 14, 7, 15);
+  const V8 t2 = __builtin_shufflevector(a[2], a[3], 0, 8, 1, 9, 4, 12, 5, 13);
+  const V8 t3 = __builtin_shufflevector(a[2], a[3], 2, 10, 3, 11, 6, 14, 7, 15);
+  out[0] = __builtin_shufflevector(t0, t2, 0, 1, 8, 9, 4, 5, 12, 13);
+  out[1] = __builtin_shufflevector(t0, t2, 2, 3, 10, 11, 6, 7, 14, 15);
+  out[2] = __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13);
+  out[3] = __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15);
+}
+
+/// 4 floats at row[l] + offset for the 8 lanes l, as 4 F8 across lanes. Rows l and l + 4 are
+/// loaded into one register's halves (loads, not shuffles: shuffles share one port), leaving a
+/// 4×4 transpose per half.
+inline void gather4(const float* const (&row)[8], int offset, V8* out) noexcept {
+  V8 a[4];
+  for (int i = 0; i < 4; ++i)
+    a[i] = __builtin_shufflevector(load4(row[i] + offset), load4(row[i + 4] + offset), 0, 1, 2, 3, 4, 5, 6, 7);
+  transpose_halves(a, out);
+}
+
 /// Three coordinates of 8 vertices, one F8 each.
 struct Xyz8 {
   F8 x, y, z;
@@ -155,10 +184,13 @@ struct Influences {
   int count;                    ///< slots used
   [[nodiscard]] float weight(int l, int k) const noexcept { return weights[4 * l + k]; }
   [[nodiscard]] int joint(int l, int k) const noexcept { return joints[4 * l + k]; }
-  [[nodiscard]] F8 slot(int k) const noexcept {
-    F8 w;
-    for (int l = 0; l < 8; ++l) w.v[l] = weight(l, k);
-    return w;
+  /// The weights of the used slots across lanes: w[k] = slot k of each vertex.
+  void slots(F8 (&w)[4]) const noexcept {
+    const float* const row[8] = {weights,      weights + 4,  weights + 8,  weights + 12,
+                                 weights + 16, weights + 20, weights + 24, weights + 28};
+    V8 out[4];
+    gather4(row, 0, out);
+    for (int k = 0; k < 4; ++k) w[k] = out[k];
   }
 };
 
@@ -179,10 +211,12 @@ inline Influences influences(const mesh::Mesh& m, Index i) noexcept {
 }
 
 /// Palette entries of slot k for the 8 lanes, transposed: rows[c] = coefficient c of each lane
-/// (the first 8 floats of each entry from `offset`).
+/// (the 8 floats of each entry from `offset`).
 inline void entries(const anim::SkinningPalette& p, const Influences& f, int k, int offset, V8 (&rows)[8]) noexcept {
-  for (int l = 0; l < 8; ++l) rows[l] = load8(p.packed.data() + p.packed_stride * f.joint(l, k) + offset);
-  transpose(rows);
+  const float* row[8];
+  for (int l = 0; l < 8; ++l) row[l] = p.packed.data() + p.packed_stride * f.joint(l, k) + offset;
+  gather4(row, 0, rows);
+  gather4(row, 4, rows + 4);
 }
 
 // ---- cga, matrix: Σ w [A b] per vertex, then x -> A x + b and n -> cof(A) n ----
@@ -190,8 +224,6 @@ inline void entries(const anim::SkinningPalette& p, const Influences& f, int k, 
 template <int Count>
 inline void block_affine(const BlockJob& job, const Influences& f, Index i) noexcept {
   const float* packed = job.palette->packed.data();
-  const float* x = job.mesh->positions.data() + 3 * i;
-  float* y = job.positions + 3 * i;
   V8 lo[8], hi[8];  // per vertex: columns 0, 1 of A, and column 2, b (each padded to 4)
   for (int l = 0; l < 8; ++l) {
     V8 a{}, b{};
@@ -203,13 +235,20 @@ inline void block_affine(const BlockJob& job, const Influences& f, Index i) noex
     }
     lo[l] = a;
     hi[l] = b;
+  }
+  // Each vertex's map applied as it is (measured faster than across lanes), the same whether or
+  // not normals are asked for, so positions do not depend on it.
+  const float* x = job.mesh->positions.data() + 3 * i;
+  float* y = job.positions + 3 * i;
+  for (int l = 0; l < 8; ++l) {
     const float xl = x[3 * l], yl = x[3 * l + 1], zl = x[3 * l + 2];
-    const V8 s = a * V8{xl, xl, xl, xl, yl, yl, yl, yl} + b * V8{zl, zl, zl, zl, 1, 1, 1, 1};
+    const V8 s = lo[l] * V8{xl, xl, xl, xl, yl, yl, yl, yl} + hi[l] * V8{zl, zl, zl, zl, 1, 1, 1, 1};
     const V4 r = __builtin_shufflevector(s, s, 0, 1, 2, 3) + __builtin_shufflevector(s, s, 4, 5, 6, 7);
     // 4 floats (the 4th is the next vertex's x, written after) but for the block's last vertex.
     std::memcpy(y + 3 * l, &r, l < 7 ? sizeof r : 3 * sizeof(float));
   }
   if (!job.normals) return;
+  // Normals: the maps across lanes for their cofactors.
   transpose(lo);  // A's columns 0, 1: rows 0-2, 4-6
   transpose(hi);  // A's column 2: rows 0-2
   const Xyz8 c0{lo[0], lo[1], lo[2]}, c1{lo[4], lo[5], lo[6]}, c2{hi[0], hi[1], hi[2]};
@@ -264,6 +303,8 @@ inline bool block_versor(const BlockJob& job, const Influences& f, Index i) noex
   constexpr int size = static_cast<int>(Mv::size);
   const anim::SkinningPalette& p = *job.palette;
   Mv first, v;
+  F8 w[4];
+  f.slots(w);
   for (int k = 0; k < f.count; ++k) {
     Mv e;
     for (int half = 0; half < size; half += 8) {
@@ -273,10 +314,10 @@ inline bool block_versor(const BlockJob& job, const Influences& f, Index i) noex
     }
     if (k == 0) {
       first = e;
-      v += f.slot(0) * e;
+      v += w[0] * e;
     } else {
       // V and -V are the same transform: blend on the side of the first influence.
-      v += flip_sign(f.slot(k), cga::scalar_product(first, cga::reverse(e))) * e;
+      v += flip_sign(w[k], cga::scalar_product(first, cga::reverse(e))) * e;
     }
   }
   if (!normalize(v)) return false;
@@ -305,11 +346,12 @@ inline Xyz8 rotate(const Xyz8& u, F8 w, const Xyz8& v) noexcept {
 inline void block_dqs(const BlockJob& job, const Influences& f, Index i) noexcept {
   const anim::SkinningPalette& p = *job.palette;
   const bool scaled = !p.scales.empty();
-  F8 b[8], s[9], first[4];
+  F8 b[8], s[9], first[4], weights[4];
+  f.slots(weights);
   for (int k = 0; k < f.count; ++k) {
     V8 rows[8];
     entries(p, f, k, 0, rows);
-    const F8 wk = f.slot(k);
+    const F8 wk = weights[k];
     F8 w = wk;
     if (k == 0)
       for (int c = 0; c < 4; ++c) first[c] = rows[c];

@@ -54,6 +54,10 @@ void expect_kernels_agree(const anim::RiggedModel& model, const anim::Pose& pose
         ASSERT_EQ(f.positions.rows(), m.vertex_count());
         ASSERT_EQ(f.normals.rows(), m.normals.rows());
         EXPECT_LE((f.positions - ref.positions).rowwise().norm().maxCoeff(), 2e-6 * size);
+        // Asking for normals does not change the positions.
+        mesh::RowMatrixXf<3> alone;
+        anim::skin_into(m, p, alone, nullptr, {.threads = 1, .kernel = kernel});
+        EXPECT_TRUE(alone == f.positions);
         if (m.normals.rows() > 0) {
           EXPECT_LE((f.normals - ref.normals).rowwise().norm().maxCoeff(), 1e-4);
         }
