@@ -1,6 +1,6 @@
 # Type stubs of the cgamesh package (the _cgamesh extension re-exported), for editors.
 from os import PathLike
-from typing import Any, Iterable, Mapping, Sequence, Union
+from typing import Any, Iterable, Literal, Mapping, Sequence, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -100,8 +100,14 @@ class Model:
     def save(self, path: Union[str, PathLike[str]], pose: Pose | None = None) -> list[str]: ...
     def pose(self, clip: int | str | None = None, time: float | None = None, blend: str = "format",
              edits: Iterable[Edit] = ()) -> Pose: ...
-    def skin(self, pose: Pose | None = None, mode: str = "cga") -> list[npt.NDArray[np.float32]]:
+    @overload
+    def skin(self, pose: Pose | None = None, mode: str = "cga",
+             normals: Literal[False] = False) -> list[npt.NDArray[np.float32]]:
         """One #V×3 float32 array per mesh, world space."""
+    @overload
+    def skin(self, pose: Pose | None = None, mode: str = "cga", *,
+             normals: Literal[True]) -> tuple[list[npt.NDArray[np.float32]], list[npt.NDArray[np.float32]]]:
+        """Positions and skinned unit normals (#V×3 each, normals 0×3 for a mesh without them) per mesh."""
     def animate(self, keys: Iterable[tuple[float, Edit]], blend: str = "linear", fps: float = 30.0,
                 name: str = "generated") -> Model: ...
     def subdivided(self, levels: int = 1) -> Model:

@@ -129,16 +129,22 @@ bool is_gltf(const std::string& path) {
   return ext == ".glb" || ext == ".gltf";
 }
 
-py::list skin_list(const anim::RiggedModel& model, const anim::Pose& pose, const std::string& mode) {
+/// Model.skin: the posed positions per mesh, and with `normals` the skinned normals too (one pass).
+py::object skin_lists(const anim::RiggedModel& model, const anim::Pose& pose, const std::string& mode, bool normals) {
   const auto m = by_name<decltype(io::kSkinningModes), anim::SkinningMode>(io::kSkinningModes, mode, "mode");
-  std::vector<mesh::RowMatrixXf<3>> positions;
+  io::PosedFrame frame;
   {
     py::gil_scoped_release release;
-    positions = io::posed_positions(model, pose, m);
+    if (normals)
+      frame = io::posed_frame(model, pose, m);
+    else
+      frame.positions = io::posed_positions(model, pose, m);
   }
-  py::list out;
-  for (auto& p : positions) out.append(adopt_rows<3>(std::move(p)));
-  return out;
+  py::list positions, turned;
+  for (auto& p : frame.positions) positions.append(adopt_rows<3>(std::move(p)));
+  if (!normals) return positions;
+  for (auto& n : frame.normals) turned.append(adopt_rows<3>(std::move(n)));
+  return py::make_tuple(positions, turned);
 }
 
 /// A property giving a read-only view (no copy) of the matrix `get` picks from a Mesh.
@@ -326,13 +332,14 @@ void add_model(py::module_& m) {
            "z), 'scale': s}.")
       .def(
           "skin",
-          [](const Model& me, const py::object& pose, const std::string& mode) {
-            return skin_list(me.model, pose_or_bind(me.model, pose), mode);
+          [](const Model& me, const py::object& pose, const std::string& mode, bool normals) {
+            return skin_lists(me.model, pose_or_bind(me.model, pose), mode, normals);
           },
-          py::arg("pose") = py::none(), py::arg("mode") = "cga",
+          py::arg("pose") = py::none(), py::arg("mode") = "cga", py::arg("normals") = false,
           "World-space posed positions: a list with one #V×3 float32 array per mesh (the arrays own their memory, "
           "no copy), as `cgamesh pose --skinning MODE` writes them. pose: a Pose, or None for the bind pose; mode: "
-          "'cga', 'versor', 'matrix' or 'dqs'. Releases the GIL.")
+          "'cga', 'versor', 'matrix' or 'dqs'; normals: True for (positions, normals), the second list the skinned "
+          "unit normals (#V×3, 0×3 for a mesh without normals) from the same pass. Releases the GIL.")
       .def(
           "animate",
           [](const Model& me, const py::iterable& keys, const std::string& blend, double fps, const std::string& name) {

@@ -110,6 +110,21 @@ def test_skin_equals_cli_pose(tmp_path, cesium, mode):
     np.testing.assert_array_equal(out[0], read_obj(tmp_path / "cli.obj")[0])
 
 
+@pytest.mark.parametrize("mode", ["cga", "versor", "matrix", "dqs"])
+def test_skin_with_normals_gives_the_cli_pose_normals(tmp_path, cesium, mode):
+    pose = cesium.pose(clip=0, time=0.5)
+    positions, normals = cesium.skin(pose, mode=mode, normals=True)
+    np.testing.assert_array_equal(positions[0], cesium.skin(pose, mode=mode)[0])
+    assert normals[0].dtype == np.float32 and normals[0].shape == positions[0].shape
+    np.testing.assert_allclose(np.linalg.norm(normals[0], axis=1), 1.0, atol=1e-5)
+    # Turned, not the rest normals.
+    assert np.abs(normals[0] - cesium.meshes[0].normals).max() > 0.5
+    run_cli("pose", CESIUM, "--anim", "0", "--time", "0.5", "--skinning", mode, "-o", tmp_path / "cli.obj")
+    vn = np.array([line.split()[1:] for line in (tmp_path / "cli.obj").read_text().splitlines()
+                   if line.startswith("vn ")], dtype=np.float32)
+    np.testing.assert_array_equal(normals[0], vn)
+
+
 def test_pose_defaults_follow_the_cli(tmp_path, cesium):
     bind = cesium.skin()
     np.testing.assert_array_equal(bind[0], cesium.skin(cesium.pose())[0])
