@@ -133,6 +133,24 @@ void BM_BatchVersorSandwich(benchmark::State& state) {
 }
 BENCHMARK(BM_BatchVersorSandwich);
 
+// One joint of a `cga` skinning palette: the product M_n B_n and its PointMap, in double.
+void BM_PaletteEntryProduct(benchmark::State& state) {
+  const Versor<double> m = sample_versor<double>(), b = sample_versor<double>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m);
+    benchmark::DoNotOptimize(Versor<double>(m * b));
+  }
+}
+void BM_PaletteEntryPointMap(benchmark::State& state) {
+  const Versor<double> v = sample_versor<double>();
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(v);
+    benchmark::DoNotOptimize(PointMap<double>(v).affine_matrix());
+  }
+}
+BENCHMARK(BM_PaletteEntryProduct);
+BENCHMARK(BM_PaletteEntryPointMap);
+
 void BM_MotorExp(benchmark::State& state) {
   const MotorGenerator<double> b = log(sample_motor<double>());
   for (auto _ : state) {
