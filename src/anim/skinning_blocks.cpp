@@ -65,6 +65,17 @@ inline F8 sqrt(F8 a) noexcept {
   return r;
 #endif
 }
+/// 1 / √a for a > 0: the processor's estimate and one Newton step (relative error ≈ 1e-7, about
+/// that of 1 / sqrt in float, at a fraction of the latency of a square root and a division).
+inline F8 rsqrt(F8 a) noexcept {
+#if defined(__x86_64__)
+  const V4 lo = __builtin_shufflevector(a.v, a.v, 0, 1, 2, 3), hi = __builtin_shufflevector(a.v, a.v, 4, 5, 6, 7);
+  const V8 y = __builtin_shufflevector(__builtin_ia32_rsqrtps(lo), __builtin_ia32_rsqrtps(hi), 0, 1, 2, 3, 4, 5, 6, 7);
+  return y * (1.5f - 0.5f * a.v * y * y);
+#else
+  return F8(1.0) / sqrt(a);
+#endif
+}
 /// Lanes of a where `mask` is set, else of b.
 inline F8 select(I8 mask, F8 a, F8 b) noexcept { return mask ? a.v : b.v; }
 /// a with the sign of b flipped into it: a where b >= 0, -a where b < 0.
@@ -169,9 +180,9 @@ inline Xyz8 cross(const Xyz8& a, const Xyz8& b) noexcept {
 
 /// n / |n| per lane; `fallback` where |n| is zero or not finite (as the scalar kernel).
 inline Xyz8 unit_or(const Xyz8& n, const Xyz8& fallback) noexcept {
-  const F8 len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-  const I8 ok = (len.v > 0.0f) & (len.v <= __FLT_MAX__);
-  const F8 inv = F8(1.0) / len;
+  const F8 len2 = n.x * n.x + n.y * n.y + n.z * n.z;
+  const I8 ok = (len2.v > 0.0f) & (len2.v <= __FLT_MAX__);
+  const F8 inv = rsqrt(len2);
   return {select(ok, n.x * inv, fallback.x), select(ok, n.y * inv, fallback.y), select(ok, n.z * inv, fallback.z)};
 }
 
@@ -272,7 +283,7 @@ inline bool normalize(cga::Multivector<F8, M>& v) noexcept {
   if (any(~((a.v > 0.0f) & (a.v <= __FLT_MAX__)))) return false;
   const auto q4 = cga::grade_part<4>(n);
   const F8 q = cga::scalar_product(q4, q4);
-  const F8 ra = F8(1.0) / sqrt(a);
+  const F8 ra = rsqrt(a);
   const F8 ra3 = ra / a;
   // Series about a, to second order in q.
   F8 alpha = ra + F8(3.0 / 8.0) * q * ra3 / a;
@@ -363,7 +374,7 @@ inline void block_dqs(const BlockJob& job, const Influences& f, Index i) noexcep
     for (int c = 0; c < 8; ++c) s[c] += wk * F8(rows[c]);
     for (int l = 0; l < 8; ++l) s[8].v[l] += wk.v[l] * p.packed[p.packed_stride * f.joint(l, k) + 16];
   }
-  const F8 inv = F8(1.0) / sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3]);
+  const F8 inv = rsqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3]);
   const Xyz8 u{b[0] * inv, b[1] * inv, b[2] * inv};
   const F8 w = b[3] * inv;
   // t = 2 vec(d q*), d and q normalised alike.
