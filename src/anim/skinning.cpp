@@ -235,6 +235,26 @@ SkinningKernel resolve(SkinningKernel k) {
   return k;
 }
 
+/// The checks of a skinning job, so that no kernel reads or writes outside its arrays.
+void validate(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
+              const RowMatrixXf<3>& positions, const RowMatrixXf<3>* normals) {
+  const Eigen::Index n = mesh.vertex_count();
+  const auto fail = [&mesh](const std::string& what) {
+    throw InvalidInputError("skinning: mesh '" + mesh.name + "': " + what);
+  };
+  if (begin < 0 || begin > end || end > n)
+    fail("vertex range [" + std::to_string(begin) + ", " + std::to_string(end) + ") outside its " + std::to_string(n) +
+         " vertices");
+  if (positions.rows() != n)
+    fail("the output has " + std::to_string(positions.rows()) + " rows for " + std::to_string(n) + " vertices");
+  if (normals && (mesh.normals.rows() != n || normals->rows() != n))
+    fail(std::to_string(mesh.normals.rows()) + " normals and " + std::to_string(normals->rows()) + " output rows for " +
+         std::to_string(n) + " vertices");
+  if (p.packed.size() != static_cast<std::size_t>(p.packed_stride) * palette_size(mesh))
+    fail("the palette has " + std::to_string(p.packed_stride > 0 ? p.packed.size() / p.packed_stride : 0) +
+         " entries, the mesh uses " + std::to_string(palette_size(mesh)) + " (a palette made for another mesh?)");
+}
+
 }  // namespace
 
 bool kernel_available(SkinningKernel kernel) noexcept {
@@ -296,6 +316,7 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
                 RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel) {
   kernel = resolve(kernel);
   normals = normals && mesh.normals.rows() > 0 ? normals : nullptr;
+  validate(mesh, p, begin, end, positions, normals);
   if (kernel != SkinningKernel::scalar) {
     const detail::BlockKernel blocks =
         kernel == SkinningKernel::avx2 ? detail::skin_blocks_avx2 : detail::skin_blocks_vector;

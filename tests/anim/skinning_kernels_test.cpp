@@ -121,3 +121,37 @@ TEST(SkinningKernels, AutomaticTakesAvx2WhenThereAndEveryOtherKernelRuns) {
 }
 
 }  // namespace
+
+namespace {
+
+// Validate before Run (ozz's SkinningJob): a job that would read or write outside its arrays is
+// an error naming the problem, in every kernel.
+TEST(SkinningKernels, JobsOutsideTheirArraysAreRejected) {
+  const anim::RiggedModel model = io::load_model(cgamesh_test::demo_model());
+  const anim::RiggedModel other = io::load_model(cgamesh_test::asset("RiggedSimple.glb"));
+  const mesh::Mesh& m = model.meshes[0];
+  const auto pose = anim::rest_pose(model.skeleton);
+  const auto gv = anim::global_versors(model.skeleton, pose);
+  const auto gm = anim::global_matrices(model.skeleton, pose);
+  const auto p = anim::make_palette(m, gv, gm, SkinningMode::cga);
+  const auto other_pose = anim::rest_pose(other.skeleton);
+  const auto foreign = anim::make_palette(other.meshes[0], anim::global_versors(other.skeleton, other_pose),
+                                          anim::global_matrices(other.skeleton, other_pose), SkinningMode::cga);
+  const Eigen::Index n = m.vertex_count();
+  for (SkinningKernel kernel : {SkinningKernel::scalar, SkinningKernel::vector}) {
+    mesh::RowMatrixXf<3> out(n, 3), normals(n, 3), short_out(n - 1, 3);
+    EXPECT_THROW(anim::skin_range(m, p, -1, 8, out, nullptr, kernel), InvalidInputError);
+    EXPECT_THROW(anim::skin_range(m, p, 16, 8, out, nullptr, kernel), InvalidInputError);
+    EXPECT_THROW(anim::skin_range(m, p, 0, n + 1, out, nullptr, kernel), InvalidInputError);
+    EXPECT_THROW(anim::skin_range(m, p, 0, n, short_out, nullptr, kernel), InvalidInputError);
+    EXPECT_THROW(anim::skin_range(m, p, 0, n, out, &short_out, kernel), InvalidInputError);
+    EXPECT_THROW(anim::skin_range(m, foreign, 0, n, out, nullptr, kernel), InvalidInputError);
+    EXPECT_NO_THROW(anim::skin_range(m, p, 0, n, out, &normals, kernel));
+    // What a good job computes is unchanged by the checks.
+    mesh::RowMatrixXf<3> ref;
+    anim::skin_into(m, p, ref, nullptr, {.threads = 1, .kernel = SkinningKernel::scalar});
+    EXPECT_LE((out - ref).cwiseAbs().maxCoeff(), 1e-4f);
+  }
+}
+
+}  // namespace

@@ -69,7 +69,10 @@ struct SkinningPalette {
 /// Skins vertices [begin, end) of `mesh` into the same rows of `positions` (#V×3) and, when
 /// `normals` is not null, its normals into the rows of `*normals` (#V×3; as skin_normals()):
 /// one job, on the calling thread.
-/// @throws InvalidInputError when `kernel` cannot run here (kernel_available()).
+/// @throws InvalidInputError when `kernel` cannot run here (kernel_available()), [begin, end) is
+///         not inside [0, #V], `positions` (or `normals`, or the mesh's normals, when normals are
+///         asked for) does not have #V rows, or the palette is not one made for this mesh (its
+///         entry count differs). Nothing is written then.
 void skin_range(const mesh::Mesh& mesh, const SkinningPalette& palette, Eigen::Index begin, Eigen::Index end,
                 mesh::RowMatrixXf<3>& positions, mesh::RowMatrixXf<3>* normals = nullptr,
                 SkinningKernel kernel = SkinningKernel::automatic);
