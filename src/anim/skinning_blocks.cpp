@@ -95,25 +95,6 @@ inline V8 load8(const float* p) noexcept {
   return v;
 }
 
-/// rows[r][c] -> rows[c][r] for an 8x8 block (unpack, shuffle, swap halves).
-inline void transpose(V8 (&r)[8]) noexcept {
-  V8 t[8], u[8];
-  for (int i = 0; i < 8; i += 2) {
-    t[i] = __builtin_shufflevector(r[i], r[i + 1], 0, 8, 1, 9, 4, 12, 5, 13);
-    t[i + 1] = __builtin_shufflevector(r[i], r[i + 1], 2, 10, 3, 11, 6, 14, 7, 15);
-  }
-  for (int i = 0; i < 8; i += 4) {
-    u[i] = __builtin_shufflevector(t[i], t[i + 2], 0, 1, 8, 9, 4, 5, 12, 13);
-    u[i + 1] = __builtin_shufflevector(t[i], t[i + 2], 2, 3, 10, 11, 6, 7, 14, 15);
-    u[i + 2] = __builtin_shufflevector(t[i + 1], t[i + 3], 0, 1, 8, 9, 4, 5, 12, 13);
-    u[i + 3] = __builtin_shufflevector(t[i + 1], t[i + 3], 2, 3, 10, 11, 6, 7, 14, 15);
-  }
-  for (int i = 0; i < 4; ++i) {
-    r[i] = __builtin_shufflevector(u[i], u[i + 4], 0, 1, 2, 3, 8, 9, 10, 11);
-    r[i + 4] = __builtin_shufflevector(u[i], u[i + 4], 4, 5, 6, 7, 12, 13, 14, 15);
-  }
-}
-
 inline V4 load4(const float* p) noexcept {
   V4 v;
   std::memcpy(&v, p, sizeof v);
@@ -141,6 +122,18 @@ inline void gather4(const float* const (&row)[8], int offset, V8* out) noexcept 
   for (int i = 0; i < 4; ++i)
     a[i] = __builtin_shufflevector(load4(row[i] + offset), load4(row[i + 4] + offset), 0, 1, 2, 3, 4, 5, 6, 7);
   transpose_halves(a, out);
+}
+
+/// rows[r][c] -> rows[c][r] for an 8x8 block in registers: the halves regrouped as gather4 loads
+/// them, then the same 4×4 transposes.
+inline void transpose(V8 (&r)[8]) noexcept {
+  V8 lo[4], hi[4];
+  for (int i = 0; i < 4; ++i) {
+    lo[i] = __builtin_shufflevector(r[i], r[i + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    hi[i] = __builtin_shufflevector(r[i], r[i + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+  }
+  transpose_halves(lo, r);
+  transpose_halves(hi, r + 4);
 }
 
 /// Three coordinates of 8 vertices, one F8 each.

@@ -132,24 +132,28 @@ int clip_index(const anim::RiggedModel& model, const std::string& anim) {
                           ")");
 }
 
-std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
-                                                  SkinningMode mode) {
-  const auto gv = anim::global_versors(model.skeleton, pose);
-  const auto gm = anim::global_matrices(model.skeleton, pose);
-  std::vector<mesh::RowMatrixXf<3>> out;
-  for (const mesh::Mesh& m : model.meshes) out.push_back(anim::skin(m, anim::make_palette(m, gv, gm, mode)));
-  return out;
-}
+namespace {
 
-PosedFrame posed_frame(const anim::RiggedModel& model, const anim::Pose& pose, SkinningMode mode) {
+/// Every mesh skinned in `pose`, normals too when `normals` (one pass per mesh).
+PosedFrame posed(const anim::RiggedModel& model, const anim::Pose& pose, SkinningMode mode, bool normals) {
   const auto gv = anim::global_versors(model.skeleton, pose);
   const auto gm = anim::global_matrices(model.skeleton, pose);
   PosedFrame out;
-  for (const mesh::Mesh& m : model.meshes) {
-    // Positions and normals in one skinning pass.
-    anim::skin_into(m, anim::make_palette(m, gv, gm, mode), out.positions.emplace_back(), &out.normals.emplace_back());
-  }
+  for (const mesh::Mesh& m : model.meshes)
+    anim::skin_into(m, anim::make_palette(m, gv, gm, mode), out.positions.emplace_back(),
+                    normals ? &out.normals.emplace_back() : nullptr);
   return out;
+}
+
+}  // namespace
+
+std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
+                                                  SkinningMode mode) {
+  return posed(model, pose, mode, false).positions;
+}
+
+PosedFrame posed_frame(const anim::RiggedModel& model, const anim::Pose& pose, SkinningMode mode) {
+  return posed(model, pose, mode, true);
 }
 
 }  // namespace cgamesh::io

@@ -103,6 +103,7 @@ void skin_into(const mesh::Mesh& mesh, const SkinningPalette& palette, mesh::Row
 /// sandwich of the Euclidean vector n (a dilator leaves directions unchanged); dqs — the
 /// cofactor of the blended scale, then the blended rotation. A degenerate result (zero blended map) keeps the rest
 /// normal.
+/// The positions are skinned in the same pass and dropped: to have both, call skin_into().
 /// @param[in] palette  make_palette(mesh, ...) in any mode
 [[nodiscard]] mesh::RowMatrixXf<3> skin_normals(const mesh::Mesh& mesh, const SkinningPalette& palette,
                                                 int threads = 0);
