@@ -52,7 +52,7 @@ mesh::RowMatrixXf<3> obj_positions(const std::filesystem::path& path) {
       xyz.push_back(x);
     }
   }
-  return Eigen::Map<const mesh::RowMatrixXf<3>>(xyz.data(), static_cast<Eigen::Index>(xyz.size() / 3), 3);
+  return Eigen::Map<const mesh::PlainRows<float, 3>>(xyz.data(), static_cast<Eigen::Index>(xyz.size() / 3), 3);
 }
 
 /// Nearest-point lookup among the file's vertices on a grid of cells of twice the tolerance.

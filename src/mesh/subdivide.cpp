@@ -28,7 +28,7 @@ Mesh subdivide_midpoint(const Mesh& in) {
     if (added) sources.push_back(VertexSource::edge(a, b, 0.5f));
     return it->second;
   };
-  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces(4 * in.face_count(), 3);
+  Faces faces(4 * in.face_count(), 3);
   for (Eigen::Index f = 0; f < in.face_count(); ++f) {
     const int a = in.faces(f, 0), b = in.faces(f, 1), c = in.faces(f, 2);
     const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);

@@ -117,7 +117,7 @@ void grow_rows(Matrix& m, Eigen::Index n) {
 }  // namespace
 
 Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
-              const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces) {
+              const Faces& faces) {
   check_sources(sources, old.vertex_count());
   // One unsigned comparison per index (a negative one wraps above any count), with no early exit
   // so that it vectorises.
@@ -161,7 +161,7 @@ void append_resampled(Mesh& m, std::span<const VertexSource> sources) {
   if (m.generated.rows() > 0)
     m.generated.conservativeResize(first + n);
   else
-    m.generated = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>::Zero(first + n);
+    m.generated.setZero(first + n);
   grow_rows(m.file_index, n);
   if (!m.skin.empty()) {
     grow_rows(m.skin.joints, n);

@@ -74,7 +74,7 @@ void for_each_influence(const mesh::Mesh& m, Eigen::Index v, F&& f) {
 
 /// Area-weighted vertex normals of a placed mesh (the normal colour of a mesh without normals).
 RowMatrixXf<3> face_normals_at_vertices(const RowMatrixXf<3>& x,
-                                        const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces) {
+                                        const mesh::Faces& faces) {
   RowMatrixXf<3> n = RowMatrixXf<3>::Zero(x.rows(), 3);
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
     const Eigen::Vector3f a = x.row(faces(f, 0)), b = x.row(faces(f, 1)), c = x.row(faces(f, 2));

@@ -36,12 +36,17 @@ LiveModel& LiveModel::operator=(const LiveModel& other) {
 }
 
 void LiveModel::reserve_headroom() {
-  // So that the first operations on a large mesh do not reallocate (copy) the whole index.
-  for (MeshIndex& m : index_.meshes) {
-    const std::size_t faces = m.neighbor.size() + m.neighbor.size() / 4 + 1024;
-    m.neighbor.reserve(faces);
-    m.bvh.reserve(static_cast<int>(faces));
-    m.weld.reserve(m.weld.size() + m.weld.size() / 4 + 1024);
+  // So that the first operations on a large mesh copy none of its arrays, its placed positions
+  // or its index (the arrays then grow by half when full).
+  const auto room = [](auto n) { return n + n / 4 + 1024; };
+  for (std::size_t i = 0; i < model_.meshes.size(); ++i) {
+    mesh::Mesh& m = model_.meshes[i];
+    m.reserve(room(m.vertex_count()), room(m.face_count()));
+    placement_.positions[i].reserve(room(m.vertex_count()));
+    MeshIndex& index = index_.meshes[i];
+    index.neighbor.reserve(room(index.neighbor.size()));
+    index.bvh.reserve(static_cast<int>(room(index.neighbor.size())));
+    index.weld.reserve(room(index.weld.size()));
   }
 }
 

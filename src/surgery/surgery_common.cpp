@@ -242,7 +242,7 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   std::vector<int> fresh_materials(edit.new_faces.size());
   for (std::size_t t = 0; t < fresh_materials.size(); ++t)
     fresh_materials[t] = new_face_material(old, edit, t, cut_surface);
-  Eigen::Matrix<int, Eigen::Dynamic, 1> face_materials;
+  mesh::RowArray<int, 1> face_materials;
   if (old.face_materials.rows() > 0 ||
       std::any_of(fresh_materials.begin(), fresh_materials.end(), [&](int x) { return x != old.material; })) {
     face_materials.resize(faces.rows());

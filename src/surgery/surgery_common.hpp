@@ -30,7 +30,7 @@
 
 namespace cgamesh::surgery {
 
-using MeshFaces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using MeshFaces = mesh::Faces;
 
 /// Key of the directed edge a -> b.
 [[nodiscard]] inline std::uint64_t directed_key(int a, int b) noexcept {

@@ -29,7 +29,7 @@ inline constexpr int kCaseScale = 1;
 inline constexpr int kCaseScale = 10;
 #endif
 
-using Faces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using Faces = cgamesh::mesh::Faces;
 using Points = cgamesh::mesh::RowMatrixXf<3>;
 
 using cgamesh::mesh::weld_by_position;

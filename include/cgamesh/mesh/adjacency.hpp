@@ -8,9 +8,9 @@
 
 #include <Eigen/Core>
 
-namespace cgamesh::mesh {
+#include "cgamesh/mesh/row_array.hpp"
 
-using Faces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+namespace cgamesh::mesh {
 
 /// Per face f and edge k (corner k to corner k + 1), the face across it, or −1.
 using FaceNeighbors = std::vector<std::array<int, 3>>;

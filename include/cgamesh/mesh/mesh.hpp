@@ -8,18 +8,16 @@
 #include <Eigen/Core>
 
 #include "cgamesh/cga/multivector.hpp"
+#include "cgamesh/mesh/row_array.hpp"
 
 namespace cgamesh::mesh {
-
-template <int Cols>
-using RowMatrixXf = Eigen::Matrix<float, Eigen::Dynamic, Cols, Eigen::RowMajor>;
 
 /// Per-vertex skin weights: up to four (joint, weight) pairs per vertex.
 /// Invariants after loading: weights >= 0, each row sums to 1, sorted by decreasing weight,
 /// unused slots have weight 0 and joint 0.
 struct Skin {
   /// #V x 4 indices into `palette`.
-  Eigen::Matrix<std::uint16_t, Eigen::Dynamic, 4, Eigen::RowMajor> joints;
+  RowArray<std::uint16_t, 4> joints;
   /// #V x 4 weights.
   RowMatrixXf<4> weights;
   /// #J skeleton joint index of each palette entry (glTF skin.joints, Assimp's bones).
@@ -34,24 +32,25 @@ struct Skin {
 };
 
 /// A triangle mesh. Vertices are never merged across seams: two vertices at the same place
-/// with different joints, normals or UVs stay two.
+/// with different joints, normals or UVs stay two. Its arrays keep spare capacity (RowArray), so
+/// that surgery in place adds vertices and faces without copying the mesh.
 struct Mesh {
   std::string name;
   RowMatrixXf<3> positions;  ///< #V x 3 rest (bind-pose) positions in mesh space
   RowMatrixXf<3> normals;    ///< #V x 3 unit normals, or 0 rows
   RowMatrixXf<2> uvs;        ///< #V x 2 texture coordinates (set 0; OpenGL's v = 0 at the image bottom), or 0 rows
-  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces;  ///< #F x 3 vertex indices
+  Faces faces;  ///< #F x 3 vertex indices
   /// #V 1 where an operation made the vertex (a point on an old edge or face: cut, tear, drill,
   /// subdivision), 0 where it comes from the file or is a copy of such a vertex; 0 rows when
   /// no operation made any. glTF files keep it as the attribute _CGAMESH_GENERATED.
-  Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1> generated;
+  RowArray<std::uint8_t, 1> generated;
   /// #V the vertex's number in the file it was loaded from, so that messages and spec handles
   /// can use the numbers a user sees in other tools: glTF the accessor element, PLY the vertex
   /// element, OBJ the `v` line (from 0, so `f` index − 1). Vertices split from one file vertex
   /// (seams) share it; a vertex an operation made has −1, a copy keeps its origin's. 0 rows
   /// when the format's numbering is not known (Assimp gives one vertex per face corner for the
   /// others) — vertices are then named by their index here.
-  Eigen::Matrix<int, Eigen::Dynamic, 1> file_index;
+  RowArray<int, 1> file_index;
   Skin skin;  ///< empty for a static mesh
   /// Skeleton node the mesh hangs from, or -1: a static mesh is placed by it; a skinned mesh
   /// is placed by its joints alone, and its node is kept so that a written file keeps its tree.
@@ -60,7 +59,7 @@ struct Mesh {
   /// #F per-face material (index into RiggedModel::materials, or -1), for a mesh whose faces
   /// differ (surgery gives its caps and hole walls the cut-surface material); 0 rows when every
   /// face has `material`. glTF files keep it as one primitive per material.
-  Eigen::Matrix<int, Eigen::Dynamic, 1> face_materials;
+  RowArray<int, 1> face_materials;
 
   [[nodiscard]] Eigen::Index vertex_count() const noexcept { return positions.rows(); }
   [[nodiscard]] Eigen::Index face_count() const noexcept { return faces.rows(); }
@@ -72,6 +71,23 @@ struct Mesh {
   /// The material of face f (0 <= f < #F).
   [[nodiscard]] int face_material(Eigen::Index f) const noexcept {
     return face_materials.rows() > 0 ? face_materials[f] : material;
+  }
+  /// Makes room for `vertices` vertices and `faces` faces in all, so that growing to them copies
+  /// no array: every per-vertex array the mesh has, `generated` and `face_materials` (which an
+  /// operation may add) included.
+  void reserve(Eigen::Index vertices, Eigen::Index faces_in_all) {
+    const auto reserve_if_present = [](auto& rows, Eigen::Index n) {
+      if (rows.rows() > 0) rows.reserve(n);
+    };
+    positions.reserve(vertices);
+    reserve_if_present(normals, vertices);
+    reserve_if_present(uvs, vertices);
+    generated.reserve(vertices);
+    reserve_if_present(file_index, vertices);
+    reserve_if_present(skin.joints, vertices);
+    reserve_if_present(skin.weights, vertices);
+    faces.reserve(faces_in_all);
+    face_materials.reserve(faces_in_all);
   }
 };
 

@@ -22,7 +22,7 @@ struct SegmentHit {
 
 class TriangleBvh {
  public:
-  using Faces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  using Faces = mesh::Faces;
 
   TriangleBvh() = default;
   /// Builds the tree (median splits along the longest axis, up to 4 faces per leaf).

@@ -48,7 +48,7 @@ void blend_influences(const Skin& skin, const VertexSource& source, std::span<st
 /// @param[in] faces    #F×3 new faces, indices into `sources`
 /// @throws InvalidInputError for a source or face index out of range.
 [[nodiscard]] Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
-                            const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces);
+                            const Faces& faces);
 
 /// Appends to `m` vertices that are blends of its own (as resample() makes them), keeping its
 /// faces: the new vertices of an edit in place, with no copy of the mesh.

@@ -48,11 +48,8 @@ struct AppliedEdit {
 /// overloads of cut_in_place, tear and drill taking a LiveModel&). The three stay consistent:
 /// every vertex has a placed position, and the index covers every face. New vertices get rest
 /// positions and skin weights from their origins (section 4.3), so model() re-animates.
-/// Growing a mesh by a few vertices reallocates its arrays (Eigen matrices have no spare
-/// capacity): a copy for a block on the heap, a page remap for an mmapped one. On meshes of a
-/// million faces the copies are most of an operation's time unless large blocks are mmapped
-/// (glibc: a fixed mmap threshold, e.g. GLIBC_TUNABLES=glibc.malloc.mmap_threshold=131072);
-/// measured in BENCHMARKS.md.
+/// The mesh arrays, placed positions and index keep a quarter of spare capacity (mesh::RowArray,
+/// Mesh::reserve), so that operations grow them without copying a million-face mesh.
 class LiveModel {
  public:
   /// Indexes `model` as placed in `placement` (SurfaceIndex::build, O(F log F)).
@@ -91,7 +88,8 @@ class LiveModel {
   [[nodiscard]] AppliedEdit apply(std::size_t i, const LocalEdit& edit, RestPosition rest, const Adjust& adjust = {});
 
  private:
-  /// Headroom in the index's arrays for the faces and vertices operations add.
+  /// Headroom in the mesh arrays, placed positions and index for the faces and vertices
+  /// operations add.
   void reserve_headroom();
   anim::RiggedModel model_;
   Placement placement_;
