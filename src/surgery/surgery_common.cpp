@@ -208,7 +208,7 @@ void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, c
     const double scale = l.cwiseAbs().maxCoeff();
     if (!(std::abs(l.determinant()) > 1e-12 * scale * scale * scale)) continue;
     const Eigen::Vector3d p = placed.row(v).cast<double>().transpose();
-    m.positions.row(v) = l.partialPivLu().solve(p - a.col(3)).cast<float>().transpose();
+    m.positions.row(v) = (l.inverse() * (p - a.col(3))).cast<float>().transpose();  // 3×3: cofactors
   }
 }
 
