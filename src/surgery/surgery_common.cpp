@@ -20,31 +20,37 @@
 
 namespace cgamesh::surgery {
 
-// The coordinates are scanned 12 (4 rows) at a time, which vectorises, then reduced per axis.
+namespace {
+
+/// Per axis, the least and greatest coordinate of the rows of `points` (at least one row). The
+/// coordinates are scanned 12 (4 rows) at a time, which vectorises, then reduced per axis.
+std::pair<Eigen::Array3f, Eigen::Array3f> float_bounds(const mesh::RowMatrixXf<3>& points) {
+  using Array12f = Eigen::Array<float, 12, 1>;
+  const float* x = points.data();
+  const Eigen::Index n = points.size();
+  Array12f lo = Eigen::Map<const Eigen::Array3f>(x).replicate<4, 1>(), hi = lo;  // slot k: axis k % 3
+  Eigen::Index i = 0;
+  for (; i + 12 <= n; i += 12) {
+    const Eigen::Map<const Array12f> block(x + i);
+    lo = lo.min(block);
+    hi = hi.max(block);
+  }
+  Eigen::Array3f l = lo.segment<3>(0).min(lo.segment<3>(3)).min(lo.segment<3>(6).min(lo.segment<3>(9)));
+  Eigen::Array3f h = hi.segment<3>(0).max(hi.segment<3>(3)).max(hi.segment<3>(6).max(hi.segment<3>(9)));
+  for (; i < n; i += 3) {
+    const Eigen::Map<const Eigen::Array3f> row(x + i);
+    l = l.min(row);
+    h = h.max(row);
+  }
+  return {l, h};
+}
+
+}  // namespace
+
 double bounding_diagonal(const mesh::RowMatrixXf<3>& points) {
   if (points.rows() == 0) return 0;
-  const std::span<const float> x(points.data(), static_cast<std::size_t>(points.size()));
-  std::array<float, 12> lo, hi;  // slot k holds axis k % 3
-  for (std::size_t k = 0; k < 12; ++k) lo[k] = hi[k] = x[k % 3];
-  std::size_t i = 0;
-  for (; i + 12 <= x.size(); i += 12)
-    for (std::size_t k = 0; k < 12; ++k) {
-      lo[k] = std::min(lo[k], x[i + k]);
-      hi[k] = std::max(hi[k], x[i + k]);
-    }
-  for (; i < x.size(); ++i) {
-    lo[i % 3] = std::min(lo[i % 3], x[i]);
-    hi[i % 3] = std::max(hi[i % 3], x[i]);
-  }
-  std::array<float, 3> extent;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    float l = lo[axis], h = hi[axis];
-    for (std::size_t k = axis + 3; k < 12; k += 3) {
-      l = std::min(l, lo[k]);
-      h = std::max(h, hi[k]);
-    }
-    extent[axis] = h - l;
-  }
+  const auto [lo, hi] = float_bounds(points);
+  const Eigen::Array3f extent = hi - lo;
   return static_cast<double>(std::sqrt((extent[0] * extent[0] + extent[1] * extent[1]) + extent[2] * extent[2]));
 }
 
@@ -103,8 +109,9 @@ PlacedBox placed_box(const Placement& placement) {
   PlacedBox b;
   for (const auto& p : placement.positions)
     if (p.rows() > 0) {
-      b.lo = b.lo.cwiseMin(p.colwise().minCoeff().transpose().cast<double>());
-      b.hi = b.hi.cwiseMax(p.colwise().maxCoeff().transpose().cast<double>());
+      const auto [lo, hi] = float_bounds(p);
+      b.lo = b.lo.cwiseMin(lo.cast<double>().matrix());
+      b.hi = b.hi.cwiseMax(hi.cast<double>().matrix());
     }
   return b;
 }
