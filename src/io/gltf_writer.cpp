@@ -332,13 +332,13 @@ class Builder {
     const auto [it, added] = texture_index_.try_emplace(t, -1);
     if (!added) return it->second;
     const mesh::TextureImage& in = model_.textures[static_cast<std::size_t>(t)];
-    if ((in.mime_type != "image/png" && in.mime_type != "image/jpeg") || in.bytes.empty()) {
+    if ((in.mime_type != "image/png" && in.mime_type != "image/jpeg") || in.data().empty()) {
       warnings_.push_back("material '" + material + "': texture '" + in.name +
                           "' is not PNG or JPEG; written without it");
       return -1;
     }
     const std::size_t begin = begin_view();
-    data().insert(data().end(), in.bytes.begin(), in.bytes.end());
+    data().insert(data().end(), in.data().begin(), in.data().end());
     tinygltf::Image image;
     image.name = in.name;
     image.mimeType = in.mime_type;

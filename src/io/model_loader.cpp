@@ -8,6 +8,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -354,7 +355,7 @@ class Loader {
         return texture_of_path_[path] = -1;
       }
       const auto* bytes = reinterpret_cast<const std::uint8_t*>(t->pcData);
-      image.bytes.assign(bytes, bytes + t->mWidth);
+      image.bytes = std::make_shared<const std::vector<std::uint8_t>>(bytes, bytes + t->mWidth);
       const std::string hint = t->achFormatHint;
       image.mime_type = hint == "png" ? "image/png" : hint == "jpg" || hint == "jpeg" ? "image/jpeg" : "";
     } else {
@@ -372,11 +373,12 @@ class Loader {
         return texture_of_path_[path] = -1;
       }
       std::ifstream stream(file, std::ios::binary);
-      image.bytes.resize(static_cast<std::size_t>(size));
-      if (!stream.read(reinterpret_cast<char*>(image.bytes.data()), static_cast<std::streamsize>(size))) {
+      auto bytes = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(size));
+      if (!stream.read(reinterpret_cast<char*>(bytes->data()), static_cast<std::streamsize>(size))) {
         warn("material '" + material + "': texture '" + path + "' cannot be read; not kept");
         return texture_of_path_[path] = -1;
       }
+      image.bytes = std::move(bytes);
       const std::string ext = detail::lower_extension(file);
       image.mime_type = ext == ".png" ? "image/png" : ext == ".jpg" || ext == ".jpeg" ? "image/jpeg" : "";
     }

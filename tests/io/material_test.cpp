@@ -149,7 +149,8 @@ fs::path full_material_file(const fs::path& dir) {
 /// The bytes of texture `t` of `model`, or empty for none.
 std::vector<std::uint8_t> texture_bytes(const anim::RiggedModel& model, int t) {
   if (t < 0 || t >= static_cast<int>(model.textures.size())) return {};
-  return model.textures[static_cast<std::size_t>(t)].bytes;
+  const auto bytes = model.textures[static_cast<std::size_t>(t)].data();
+  return {bytes.begin(), bytes.end()};
 }
 
 /// Every field of the material of test file full_material_file.

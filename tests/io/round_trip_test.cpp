@@ -115,8 +115,8 @@ void expect_round_trip(const anim::RiggedModel& a, const anim::RiggedModel& b) {
         << fa.base_color.transpose() << " vs " << fb.base_color.transpose();
     EXPECT_EQ(fa.base_color_texture >= 0, fb.base_color_texture >= 0);
     if (fa.base_color_texture >= 0 && fb.base_color_texture >= 0) {
-      EXPECT_EQ(a.textures[static_cast<std::size_t>(fa.base_color_texture)].bytes,
-                b.textures[static_cast<std::size_t>(fb.base_color_texture)].bytes);
+      EXPECT_EQ(*a.textures[static_cast<std::size_t>(fa.base_color_texture)].bytes,
+                *b.textures[static_cast<std::size_t>(fb.base_color_texture)].bytes);
     }
   }
   expect_same_positions(a, anim::rest_pose(a.skeleton), b, anim::rest_pose(b.skeleton), "rest pose");

@@ -72,7 +72,7 @@ TEST(ModelScene, MaterialModeUsesTheBaseColourTexture) {
   EXPECT_EQ(s.meshes[0].uvs.rows(), model.meshes[0].vertex_count());
   // A texture that does not decode is a warning, and the mesh is drawn without it.
   auto broken = model;
-  broken.textures[0].bytes.assign(10, 7);
+  broken.textures[0].bytes = std::make_shared<const std::vector<std::uint8_t>>(10, 7);
   const render::Scene b = scene_of(broken, {}, &warnings);
   EXPECT_FALSE(b.meshes[0].texture);
   ASSERT_EQ(warnings.size(), 1u) << warnings.back();

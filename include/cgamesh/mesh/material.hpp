@@ -4,6 +4,8 @@
 // file stores them; and the material of the surfaces surgery makes (caps, hole walls).
 
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -12,11 +14,17 @@
 namespace cgamesh::mesh {
 
 /// An image as the file holds it: PNG or JPEG bytes (embedded, or read from the file next to
-/// the model).
+/// the model). The bytes are shared and never changed, so that copies of a model (an undo
+/// snapshot, the two pieces of a cut) share megabytes of images instead of copying them.
 struct TextureImage {
   std::string name;       ///< the file name or the embedded name
   std::string mime_type;  ///< "image/png", "image/jpeg", or empty when unknown
-  std::vector<std::uint8_t> bytes;
+  std::shared_ptr<const std::vector<std::uint8_t>> bytes;  ///< the encoded image, or null
+
+  /// The encoded image (empty when there is none).
+  [[nodiscard]] std::span<const std::uint8_t> data() const noexcept {
+    return bytes ? std::span<const std::uint8_t>(*bytes) : std::span<const std::uint8_t>();
+  }
 };
 
 /// How the base colour's alpha is used (glTF material.alphaMode).
