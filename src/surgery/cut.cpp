@@ -269,7 +269,7 @@ class Cutter {
   void build_piece(int piece, std::vector<int>& remap, MeshCut& out) {
     const auto& faces = faces_[static_cast<std::size_t>(piece)];
     // Piece vertices in order of first use; extended[i] is the extended vertex of piece vertex i.
-    MeshFaces piece_faces(static_cast<Eigen::Index>(faces.size()), 3);
+    mesh::Faces piece_faces(static_cast<Eigen::Index>(faces.size()), 3);
     std::vector<int> extended(remap.size());
     int* corner = piece_faces.data();
     int* const piece_vertex = remap.data();
@@ -302,7 +302,7 @@ class Cutter {
     sources.reserve(extended.size());
     for (const int x : extended) sources.push_back(x < nv_ ? VertexSource::copy(x) : source(x, piece));
     mesh::Mesh& m = out.pieces[static_cast<std::size_t>(piece)];
-    m = mesh::resample(mesh_, sources, MeshFaces(0, 3));
+    m = mesh::resample(mesh_, sources, mesh::Faces(0, 3));
     m.faces = std::move(piece_faces);  // valid by construction: moved in, not checked and copied
     set_face_materials(piece, m);
     if (palette_ != nullptr) solve_rest_positions(m, *palette_, placed, sources, 0, options_.rest);
@@ -320,7 +320,7 @@ class Cutter {
   /// Triangulates the closed cross-section loops bounding this piece in the plane and appends
   /// the cap: its own copies of the loop vertices (so the cap has its own normals), appended to
   /// `extended` as further piece vertices.
-  void add_cap(int piece, std::vector<int>& extended, MeshFaces& faces, MeshCut& out) {
+  void add_cap(int piece, std::vector<int>& extended, mesh::Faces& faces, MeshCut& out) {
     const auto on_plane = [&](int x) { return x >= nv_ || side(x) == 0; };
     // Directed edges between on-plane vertices, by welded id; a boundary edge has no twin.
     std::unordered_map<std::uint64_t, int> count;

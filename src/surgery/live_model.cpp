@@ -107,7 +107,7 @@ class FaceSlots {
     index_.bvh.replace(f, placed_corners(m_, placed_, f));
   }
 
-  /// Makes room for n faces at the end (one reallocation for all of them).
+  /// Makes room for n faces at the end (within the arrays' spare capacity as a rule).
   void reserve_more(int n) {
     if (n <= 0) return;
     m_.faces.conservativeResize(count_ + n, Eigen::NoChange);

@@ -233,7 +233,7 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   const int total = nv + static_cast<int>(edit.new_vertices.size());
   const std::vector<int> removed = checked_removed_faces(old, edit);
   // Kept faces in runs between removed ones (block copies), then the new faces.
-  MeshFaces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces.size()), 3);
+  mesh::Faces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces.size()), 3);
   Eigen::Index row = 0, from = 0;
   const auto copy_run = [&](Eigen::Index to) {
     faces.middleRows(row, to - from) = old.faces.middleRows(from, to - from);
@@ -291,7 +291,7 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   int* out_ids = faces.data();
   for (Eigen::Index i = 0; i < faces.size(); ++i) out_ids[i] = remap[static_cast<std::size_t>(out_ids[i])];
   // Old vertices are copied as they are; only the new ones are blended (resample).
-  mesh::Mesh blended = mesh::resample(old, fresh_sources, MeshFaces(0, 3));
+  mesh::Mesh blended = mesh::resample(old, fresh_sources, mesh::Faces(0, 3));
   mesh::Mesh& m = out.mesh;
   m.name = old.name;
   m.node = old.node;

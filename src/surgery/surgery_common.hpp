@@ -30,8 +30,6 @@
 
 namespace cgamesh::surgery {
 
-using MeshFaces = mesh::Faces;
-
 /// Key of the directed edge a -> b.
 [[nodiscard]] inline std::uint64_t directed_key(int a, int b) noexcept {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);

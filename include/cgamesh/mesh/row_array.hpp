@@ -33,7 +33,6 @@ class RowArray : public Eigen::Map<PlainRows<T, Cols>> {
 
  public:
   using Base = Eigen::Map<PlainRows<T, Cols>>;
-  using Plain = PlainRows<T, Cols>;
 
   RowArray() noexcept : Base(nullptr, 0, Cols) {}
   /// rows × cols zeros (cols must be Cols).
