@@ -163,6 +163,9 @@ class Driller {
 
   // ---- the steps of run, in order ----
 
+  /// Room for the region pulled in from `candidates` input faces.
+  void reserve_region(std::size_t candidates);
+
   /// The input faces `faces` as faces of the region.
   std::vector<int> slots_of(const std::vector<int>& faces);
   /// Algorithm 3, steps 2, 3 and 5: the faces the drill meets, reached from `seeds`, and their kept polygons.

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <functional>
 #include <string>
-#include <unordered_map>
 #include <utility>
 
 #include "cgamesh/errors.hpp"
@@ -124,9 +123,18 @@ class FaceSlots {
     return f;
   }
 
+  /// Removes faces `left_over` (sorted), largest first, so that a face moved into a freed
+  /// slot is never one still to be removed.
+  void erase_all(const std::vector<int>& left_over) {
+    origin_.reserve(left_over.size());
+    for (auto it = left_over.rbegin(); it != left_over.rend(); ++it) erase(*it);
+  }
+
   /// Removes face f; the last face takes its id.
   void erase(int f) {
     const int last = --count_;
+    int* moved = origin_.find(static_cast<std::uint64_t>(last));
+    const int origin = moved != nullptr && *moved >= 0 ? std::exchange(*moved, -1) : last;
     if (f != last) {
       m_.faces.row(f) = m_.faces.row(last);
       if (materials_) m_.face_materials[f] = m_.face_materials[last];
@@ -136,12 +144,9 @@ class FaceSlots {
         if (g >= 0)
           for (int& back : nb[static_cast<std::size_t>(g)])
             if (back == last) back = f;
-      const auto it = origin_.find(last);
-      const int origin = it == origin_.end() ? last : it->second;
-      if (it != origin_.end()) origin_.erase(it);
-      origin_[f] = origin;
-    } else {
-      origin_.erase(last);
+      const auto [at, added] = origin_.try_emplace(static_cast<std::uint64_t>(f), origin);
+      *at = origin;
+      if (added) filled_.push_back(f);
     }
     index_.bvh.erase(f);
   }
@@ -152,10 +157,13 @@ class FaceSlots {
     index_.neighbor.resize(static_cast<std::size_t>(count_));
   }
 
-  /// Current id of the face that had id `f` before the edit (faces not moved keep theirs).
-  [[nodiscard]] std::unordered_map<int, int> current_of() const {
-    std::unordered_map<int, int> out;
-    for (const auto& [now, before] : origin_) out.emplace(before, now);
+  /// The faces the edit moved, as (id before the edit, current id).
+  [[nodiscard]] std::vector<std::pair<int, int>> moves() const {
+    std::vector<std::pair<int, int>> out;
+    out.reserve(filled_.size());
+    for (const int now : filled_)
+      if (const int* before = origin_.find(static_cast<std::uint64_t>(now)); *before >= 0)
+        out.emplace_back(*before, now);
     return out;
   }
 
@@ -165,7 +173,8 @@ class FaceSlots {
   MeshIndex& index_;
   int count_;
   bool materials_;                       ///< the mesh has face_materials
-  std::unordered_map<int, int> origin_;  ///< current id -> id before the edit, for moved faces
+  FlatMap<int> origin_;       ///< current id -> id before the edit of a moved face, or −1 once moved on
+  std::vector<int> filled_;  ///< the keys of origin_
 };
 
 /// 3-D Morton code of p in the box [lo, lo + 1/scale]: 10 bits per axis.
@@ -346,15 +355,18 @@ AppliedEdit LiveModel::apply(std::size_t i, const LocalEdit& edit, RestPosition 
       ids[t] = slots.append(faces[t], plan.near[t], materials[t]);
     }
   }
-  for (auto it = plan.left_over.rbegin(); it != plan.left_over.rend(); ++it) slots.erase(*it);
+  slots.erase_all(plan.left_over);
   slots.shrink();
-  const std::unordered_map<int, int> current = slots.current_of();
+  const std::vector<std::pair<int, int>> moves = slots.moves();
+  FlatMap<int> current;
+  current.reserve(moves.size());
+  for (const auto& [before, after] : moves) current.try_emplace(static_cast<std::uint64_t>(before), after);
   const auto now = [&](int f) {
-    const auto it = current.find(f);
-    return it == current.end() ? f : it->second;
+    const int* moved = current.find(static_cast<std::uint64_t>(f));
+    return moved == nullptr ? f : *moved;
   };
   for (int& f : ids) f = now(f);
-  for (const auto& [before, after] : current)
+  for (const auto& [before, after] : moves)
     if (!is_removed(before)) out.change.moved_faces.push_back({before, after});
   std::sort(out.change.moved_faces.begin(), out.change.moved_faces.end());
 
