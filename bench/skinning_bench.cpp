@@ -90,11 +90,13 @@ void report(benchmark::State& state, const mesh::Mesh& m) {
 }
 
 // Args: mode (0 cga, 1 versor, 2 matrix, 3 dqs), threads (0 = all), normals (0: positions
-// only, 1: and normals), kernel (0 automatic, 1 scalar, 2 vector, 3 avx2).
+// only, 1: and normals), kernel (0 automatic, 1 scalar, 2 vector, 3 avx2), stores (0 automatic,
+// 1 caching, 2 streaming).
 void skin_frame(benchmark::State& state, const mesh::Mesh& m) {
   const auto mode = static_cast<anim::SkinningMode>(state.range(0));
   const anim::SkinningOptions options{.threads = static_cast<int>(state.range(1)),
-                                      .kernel = static_cast<anim::SkinningKernel>(state.range(3))};
+                                      .kernel = static_cast<anim::SkinningKernel>(state.range(3)),
+                                      .stores = static_cast<anim::SkinningStores>(state.range(4))};
   if (!anim::kernel_available(options.kernel)) {
     state.SkipWithError("kernel not available on this processor");
     return;
@@ -146,12 +148,14 @@ void BM_StreamBoundMillion(benchmark::State& state) { stream_frame(state, scene(
 
 void modes(benchmark::internal::Benchmark* b) {
   for (int mode = 0; mode < 4; ++mode) {
-    b->Args({mode, 1, 0, 0});  // one core, the fastest kernel here
-    b->Args({mode, 1, 1, 0});  // with normals
-    b->Args({mode, 1, 0, 1});  // the scalar kernel
-    b->Args({mode, 0, 0, 0});  // every core
+    b->Args({mode, 1, 0, 0, 0});  // one core, the fastest kernel here
+    b->Args({mode, 1, 1, 0, 0});  // with normals
+    b->Args({mode, 1, 0, 1, 0});  // the scalar kernel
+    b->Args({mode, 0, 0, 0, 0});  // every core
+    b->Args({mode, 1, 0, 0, 1});  // ordinary stores whatever the size
+    b->Args({mode, 1, 1, 0, 1});  // and with normals
   }
-  b->ArgNames({"mode", "threads", "normals", "kernel"});
+  b->ArgNames({"mode", "threads", "normals", "kernel", "stores"});
 }
 BENCHMARK(BM_StreamBoundCesiumMan)->Arg(1)->ArgName("threads")->UseRealTime();
 BENCHMARK(BM_SkinCesiumMan)->Apply(modes)->UseRealTime();

@@ -313,14 +313,19 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
 }
 
 void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
-                RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel) {
+                RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel, SkinningStores stores) {
   kernel = resolve(kernel);
   normals = normals && mesh.normals.rows() > 0 ? normals : nullptr;
   validate(mesh, p, begin, end, positions, normals);
   if (kernel != SkinningKernel::scalar) {
     const detail::BlockKernel blocks =
         kernel == SkinningKernel::avx2 ? detail::skin_blocks_avx2 : detail::skin_blocks_vector;
-    const detail::BlockJob job{&mesh, &p, positions.data(), normals ? normals->data() : nullptr};
+    // Decided on the whole mesh, so that every job of a frame stores alike: per vertex its rest
+    // position, 4 joints, 4 weights and posed position (and its normal in and out).
+    const std::size_t bytes = static_cast<std::size_t>(mesh.vertex_count()) * (normals ? 72 : 48);
+    const bool streaming = stores == SkinningStores::streaming ||
+                           (stores == SkinningStores::automatic && bytes > kStreamingBytes);
+    const detail::BlockJob job{&mesh, &p, positions.data(), normals ? normals->data() : nullptr, streaming};
     // A block a lane cannot do runs one vertex at a time (which reports the problem).
     for (Eigen::Index stop; (stop = blocks(job, begin, end)) < end - (end - begin) % 8;) {
       skin_positions(mesh, p, stop, stop + 8, positions);
@@ -348,7 +353,7 @@ void skin_into(const Mesh& mesh, const SkinningPalette& palette, RowMatrixXf<3>&
   if (positions.rows() != mesh.vertex_count()) positions.resize(mesh.vertex_count(), 3);
   if (normals && normals->rows() != mesh.normals.rows()) normals->resize(mesh.normals.rows(), 3);
   detail::parallel_for(mesh.vertex_count(), options.threads, [&](Eigen::Index begin, Eigen::Index end) {
-    skin_range(mesh, palette, begin, end, positions, normals, kernel);
+    skin_range(mesh, palette, begin, end, positions, normals, kernel, options.stores);
   });
 }
 

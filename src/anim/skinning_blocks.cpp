@@ -101,6 +101,26 @@ inline V4 load4(const float* p) noexcept {
   return v;
 }
 
+/// Writes 8 floats at p: with a non-temporal store when `streaming` and p is 16-byte aligned
+/// (straight to memory, without first reading the cache lines it fills), else an ordinary one.
+inline void store8(float* p, V8 v, bool streaming) noexcept {
+#if defined(__x86_64__)
+  if (streaming && (reinterpret_cast<std::uintptr_t>(p) & 15) == 0) {
+    __builtin_ia32_movntps(p, __builtin_shufflevector(v, v, 0, 1, 2, 3));
+    __builtin_ia32_movntps(p + 4, __builtin_shufflevector(v, v, 4, 5, 6, 7));
+    return;
+  }
+#endif
+  std::memcpy(p, &v, sizeof v);
+}
+
+/// Orders the non-temporal stores before any later store (another thread reads them next).
+inline void store_fence() noexcept {
+#if defined(__x86_64__)
+  __builtin_ia32_sfence();
+#endif
+}
+
 /// Columns 0-3 of the 4×4 blocks in the two halves of a[0..3]: out[c] = (a[0][c], a[1][c],
 /// a[2][c], a[3][c] | the same from the upper halves).
 inline void transpose_halves(const V8 (&a)[4], V8* out) noexcept {
@@ -152,7 +172,7 @@ inline Xyz8 load_xyz(const float* p) noexcept {
           __builtin_shufflevector(ab_z, c, 0, 1, 2, 3, 4, 9, 12, 15)};
 }
 
-inline void store_xyz(float* p, const Xyz8& v) noexcept {
+inline void store_xyz(float* p, const Xyz8& v, bool streaming) noexcept {
   const V8 x = v.x.v, y = v.y.v, z = v.z.v;
   const V8 xy = __builtin_shufflevector(x, y, 0, 8, 1, 9, 2, 10, 3, 11);  // x0 y0 x1 y1 x2 y2 x3 y3
   const V8 xy_hi = __builtin_shufflevector(x, y, 4, 12, 5, 13, 6, 14, 7, 15);
@@ -162,9 +182,9 @@ inline void store_xyz(float* p, const Xyz8& v) noexcept {
   const V8 b3 = __builtin_shufflevector(b2, z, 0, 1, 2, 3, 4, 5, 12, 0);      // .. z4
   const V8 bb = __builtin_shufflevector(b3, xy_hi, 0, 1, 2, 3, 4, 5, 6, 10);  // .. x5
   const V8 c = __builtin_shufflevector(xy_hi, z, 3, 13, 4, 5, 14, 6, 7, 15);  // y5 z5 x6 y6 z6 x7 y7 z7
-  std::memcpy(p, &a, sizeof a);
-  std::memcpy(p + 8, &bb, sizeof bb);
-  std::memcpy(p + 16, &c, sizeof c);
+  store8(p, a, streaming);
+  store8(p + 8, bb, streaming);
+  store8(p + 16, c, streaming);
 }
 
 inline Xyz8 cross(const Xyz8& a, const Xyz8& b) noexcept {
@@ -244,13 +264,18 @@ inline void block_affine(const BlockJob& job, const Influences& f, Index i) noex
   // not normals are asked for, so positions do not depend on it.
   const float* x = job.mesh->positions.data() + 3 * i;
   float* y = job.positions + 3 * i;
+  // Streaming stores write whole 16-byte lines: the block is put together on the stack first.
+  float block[24];
+  float* out = job.streaming ? block : y;
   for (int l = 0; l < 8; ++l) {
     const float xl = x[3 * l], yl = x[3 * l + 1], zl = x[3 * l + 2];
     const V8 s = lo[l] * V8{xl, xl, xl, xl, yl, yl, yl, yl} + hi[l] * V8{zl, zl, zl, zl, 1, 1, 1, 1};
     const V4 r = __builtin_shufflevector(s, s, 0, 1, 2, 3) + __builtin_shufflevector(s, s, 4, 5, 6, 7);
     // 4 floats (the 4th is the next vertex's x, written after) but for the block's last vertex.
-    std::memcpy(y + 3 * l, &r, l < 7 ? sizeof r : 3 * sizeof(float));
+    std::memcpy(out + 3 * l, &r, l < 7 ? sizeof r : 3 * sizeof(float));
   }
+  if (job.streaming)
+    for (int k = 0; k < 3; ++k) store8(y + 8 * k, load8(block + 8 * k), true);
   if (!job.normals) return;
   // Normals: the maps across lanes for their cofactors.
   transpose(lo);  // A's columns 0, 1: rows 0-2, 4-6
@@ -258,9 +283,11 @@ inline void block_affine(const BlockJob& job, const Influences& f, Index i) noex
   const Xyz8 c0{lo[0], lo[1], lo[2]}, c1{lo[4], lo[5], lo[6]}, c2{hi[0], hi[1], hi[2]};
   const Xyz8 n = load_xyz(job.mesh->normals.data() + 3 * i);
   const Xyz8 k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);
-  store_xyz(job.normals + 3 * i, unit_or({k0.x * n.x + k1.x * n.y + k2.x * n.z, k0.y * n.x + k1.y * n.y + k2.y * n.z,
-                                          k0.z * n.x + k1.z * n.y + k2.z * n.z},
-                                         n));
+  store_xyz(job.normals + 3 * i,
+            unit_or({k0.x * n.x + k1.x * n.y + k2.x * n.z, k0.y * n.x + k1.y * n.y + k2.y * n.z,
+                     k0.z * n.x + k1.z * n.y + k2.z * n.z},
+                    n),
+            job.streaming);
 }
 
 // ---- versor: Σ ±w V per vertex, renormalised (closed form), one sandwich ----
@@ -329,11 +356,11 @@ inline bool block_versor(const BlockJob& job, const Influences& f, Index i) noex
   const F8 half_sq = F8(0.5) * (x.x * x.x + x.y * x.y + x.z * x.z);
   const cga::Vector<F8> y = cga::unit_sandwich(v, cga::make_vector<F8>(x.x, x.y, x.z, half_sq, F8(1.0)));
   const F8 inv = F8(1.0) / y.get<cga::blade::eo>();
-  store_xyz(job.positions + 3 * i, {y[0] * inv, y[1] * inv, y[2] * inv});
+  store_xyz(job.positions + 3 * i, {y[0] * inv, y[1] * inv, y[2] * inv}, job.streaming);
   if (!job.normals) return true;
   const Xyz8 n = load_xyz(job.mesh->normals.data() + 3 * i);
   const cga::Vector<F8> yn = cga::unit_sandwich(v, cga::euclidean<F8>(n.x, n.y, n.z));
-  store_xyz(job.normals + 3 * i, unit_or({yn[0], yn[1], yn[2]}, n));
+  store_xyz(job.normals + 3 * i, unit_or({yn[0], yn[1], yn[2]}, n), job.streaming);
   return true;
 }
 
@@ -382,7 +409,7 @@ inline void block_dqs(const BlockJob& job, const Influences& f, Index i) noexcep
     x = {s0.x * x.x + s1.x * x.y + s2.x * x.z, s0.y * x.x + s1.y * x.y + s2.y * x.z,
          s0.z * x.x + s1.z * x.y + s2.z * x.z};
   const Xyz8 y = rotate(u, w, x);
-  store_xyz(job.positions + 3 * i, {y.x + t.x, y.y + t.y, y.z + t.z});
+  store_xyz(job.positions + 3 * i, {y.x + t.x, y.y + t.y, y.z + t.z}, job.streaming);
   if (!job.normals) return;
   const Xyz8 n = load_xyz(job.mesh->normals.data() + 3 * i);
   Xyz8 m = n;
@@ -391,7 +418,7 @@ inline void block_dqs(const BlockJob& job, const Influences& f, Index i) noexcep
     m = {k0.x * n.x + k1.x * n.y + k2.x * n.z, k0.y * n.x + k1.y * n.y + k2.y * n.z,
          k0.z * n.x + k1.z * n.y + k2.z * n.z};
   }
-  store_xyz(job.normals + 3 * i, unit_or(rotate(u, w, m), n));
+  store_xyz(job.normals + 3 * i, unit_or(rotate(u, w, m), n), job.streaming);
 }
 
 /// The kernel: whole blocks of [begin, end), stopping at a block a lane cannot do.
@@ -421,14 +448,17 @@ inline Index skin_blocks(const BlockJob& job, Index begin, Index end) noexcept {
         break;
       case anim::SkinningMode::versor:
         if (!(p.motors.empty() ? block_versor<cga::mask::versor>(job, f, i)
-                               : block_versor<cga::mask::motor>(job, f, i)))
+                               : block_versor<cga::mask::motor>(job, f, i))) {
+          if (job.streaming) store_fence();
           return i;
+        }
         break;
       case anim::SkinningMode::dqs:
         block_dqs(job, f, i);
         break;
     }
   }
+  if (job.streaming) store_fence();
   return last;
 }
 

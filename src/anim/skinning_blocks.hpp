@@ -17,6 +17,7 @@ struct BlockJob {
   const anim::SkinningPalette* palette;
   float* positions;
   float* normals;  ///< null: positions only
+  bool streaming;  ///< write the rows with non-temporal stores (anim::SkinningStores::streaming)
 };
 
 /// Skins the whole blocks of 8 vertices in [begin, end) and returns the first vertex it left:

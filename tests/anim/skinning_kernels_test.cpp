@@ -67,6 +67,16 @@ void expect_kernels_agree(const anim::RiggedModel& model, const anim::Pose& pose
         anim::skin_range(m, p, 3, 29, part, nullptr, kernel);
         EXPECT_LE((part.middleRows(3, 26) - ref.positions.middleRows(3, 26)).rowwise().norm().maxCoeff(), 2e-6 * size);
         EXPECT_EQ(part.topRows(3).squaredNorm() + part.bottomRows(m.vertex_count() - 29).squaredNorm(), 0.0f);
+        // Streaming stores write the same rows bit for bit, from a start inside a block too
+        // (its rows are not 16-byte aligned: ordinary stores there).
+        Frame streamed;
+        anim::skin_into(m, p, streamed.positions, &streamed.normals,
+                        {.threads = 1, .kernel = kernel, .stores = anim::SkinningStores::streaming});
+        EXPECT_TRUE(streamed.positions == f.positions);
+        EXPECT_TRUE(streamed.normals == f.normals);
+        mesh::RowMatrixXf<3> streamed_part = mesh::RowMatrixXf<3>::Zero(m.vertex_count(), 3);
+        anim::skin_range(m, p, 3, 29, streamed_part, nullptr, kernel, anim::SkinningStores::streaming);
+        EXPECT_TRUE(streamed_part == part);
       }
     }
 }

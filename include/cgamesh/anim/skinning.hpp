@@ -10,6 +10,7 @@
 //   dqs    - dual-quaternion skinning, the baseline; joint scale and shear are blended linearly
 //            and applied first (Kavan et al. 2008), so scaled rigs keep their size.
 
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -34,10 +35,24 @@ enum class SkinningKernel { automatic, scalar, vector, avx2 };
 /// True when `kernel` can run on this processor (`automatic`, `scalar`, `vector`: always).
 [[nodiscard]] bool kernel_available(SkinningKernel kernel) noexcept;
 
+/// How the `vector` and `avx2` kernels write the skinned rows (`scalar` always caches).
+///   automatic - streaming when a frame moves more than kStreamingBytes (48 bytes a vertex read
+///               and written, 24 more with normals), caching otherwise.
+///   caching   - ordinary stores: the rows stay in the cache for whoever reads them next.
+///   streaming - non-temporal stores: the rows go straight to memory, without the processor
+///               first reading the lines they overwrite (on a mesh far larger than the caches
+///               that read is a fifth of a frame's memory traffic).
+enum class SkinningStores { automatic, caching, streaming };
+
+/// A frame's bytes from which `automatic` streams: more than the last-level cache of most
+/// processors holds, so the rows written would not stay in it anyway.
+inline constexpr std::size_t kStreamingBytes = std::size_t{32} << 20;
+
 /// How skin() and skin_into() split and run the work.
 struct SkinningOptions {
   int threads = 0;  ///< threads to split over (0: all hardware threads; small meshes run inline)
   SkinningKernel kernel = SkinningKernel::automatic;
+  SkinningStores stores = SkinningStores::automatic;
 };
 
 /// What one frame's skinning of one mesh needs per palette entry (built per frame, small).
@@ -75,7 +90,7 @@ struct SkinningPalette {
 ///         entry count differs). Nothing is written then.
 void skin_range(const mesh::Mesh& mesh, const SkinningPalette& palette, Eigen::Index begin, Eigen::Index end,
                 mesh::RowMatrixXf<3>& positions, mesh::RowMatrixXf<3>* normals = nullptr,
-                SkinningKernel kernel = SkinningKernel::automatic);
+                SkinningKernel kernel = SkinningKernel::automatic, SkinningStores stores = SkinningStores::automatic);
 
 /// Skins every vertex into caller-owned arrays, resized when their row count differs: a
 /// renderer that keeps them from frame to frame allocates nothing per frame.
