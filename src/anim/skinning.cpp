@@ -16,6 +16,13 @@
 namespace cgamesh::anim {
 namespace {
 
+/// Whether versor v is a motor up to noise: its dilation part within 1e-6 of its size (float
+/// keyframes and inverse binds leave a few 1e-7 on rigid rigs).
+template <class T>
+bool is_motor(const cga::Versor<T>& v) {
+  return cga::max_abs(cga::project<cga::kEvenBlades & ~cga::mask::motor>(v)) <= T(1e-6) * cga::max_abs(v);
+}
+
 using mesh::Mesh;
 using mesh::RowMatrixXf;
 
@@ -274,12 +281,25 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
       throw InvalidInputError("skinning: mesh '" + mesh.name + "' uses joint " + std::to_string(j) +
                               " but the pose has " + std::to_string(count));
     if (uses_cga) {
-      cga::Versor<double> v =
+      const cga::Versor<double> global =
           j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
-      if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
       if (mode == SkinningMode::cga) {
-        p.affine.push_back(cga::PointMap<double>(v).affine_matrix().cast<float>());
+        // Eq. (17)'s map of M_n B_n; with motors (no dilation) the product and the sandwiches
+        // run on 8 coefficients instead of 16.
+        const bool motors = is_motor(global) && (mesh.skin.empty() || is_motor(mesh.skin.inverse_bind_versors[k]));
+        if (motors) {
+          cga::Motor<double> m = cga::project<cga::mask::motor>(global);
+          if (!mesh.skin.empty())
+            m = cga::Motor<double>(m * cga::project<cga::mask::motor>(mesh.skin.inverse_bind_versors[k]));
+          p.affine.push_back(cga::PointMap<double>(m).affine_matrix().cast<float>());
+        } else {
+          cga::Versor<double> v = global;
+          if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
+          p.affine.push_back(cga::PointMap<double>(v).affine_matrix().cast<float>());
+        }
       } else {
+        cga::Versor<double> v = global;
+        if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
         cga::Versor<float> vf;
         for (std::size_t c = 0; c < cga::Versor<float>::size; ++c) vf[c] = static_cast<float>(v[c]);
         p.versors.push_back(vf);
@@ -302,9 +322,7 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
     p.scales.clear();
   // Without dilations every palette versor is a motor: blend 8 coefficients instead of 16.
   if (mode == SkinningMode::versor) {
-    const bool rigid = std::all_of(p.versors.begin(), p.versors.end(), [](const cga::Versor<float>& v) {
-      return cga::max_abs(cga::project<cga::kEvenBlades & ~cga::mask::motor>(v)) <= 1e-6f * cga::max_abs(v);
-    });
+    const bool rigid = std::all_of(p.versors.begin(), p.versors.end(), is_motor<float>);
     if (rigid)
       for (const cga::Versor<float>& v : p.versors) p.motors.push_back(cga::project<cga::mask::motor>(v));
   }
