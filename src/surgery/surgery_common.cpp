@@ -210,13 +210,16 @@ void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, c
     if (!forced && (rest == RestPosition::parametric || origins[k].count() == 1)) continue;
     const Eigen::Index v = first + static_cast<Eigen::Index>(k);
     const Eigen::Matrix<double, 3, 4> a = anim::blended_affine(m, palette, v);
-    const Eigen::Matrix3d l = a.leftCols<3>();
-    // A blend of joints that collapse space (a zero scale) has no inverse: keep the parametric point.
-    const double scale = l.cwiseAbs().maxCoeff();
-    if (!(std::abs(l.determinant()) > 1e-12 * scale * scale * scale)) continue;
-    const Eigen::Vector3d p = placed.row(v).cast<double>().transpose();
-    m.positions.row(v) = (l.inverse() * (p - a.col(3))).cast<float>().transpose();  // 3×3: cofactors
+    // A blend of joints that collapse space has no inverse: keep the parametric point.
+    if (const auto x = unskin(a.leftCols<3>(), placed.row(v).cast<double>().transpose() - a.col(3)))
+      m.positions.row(v) = x->cast<float>().transpose();
   }
+}
+
+std::optional<Eigen::Vector3d> unskin(const Eigen::Matrix3d& l, const Eigen::Vector3d& y) {
+  const double scale = l.cwiseAbs().maxCoeff();
+  if (!(std::abs(l.determinant()) > 1e-12 * scale * scale * scale)) return std::nullopt;
+  return l.inverse() * y;  // 3×3: cofactors
 }
 
 void set_placed_normal(mesh::Mesh& m, const anim::SkinningPalette& palette, Eigen::Index v,

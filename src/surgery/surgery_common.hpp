@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -98,6 +99,10 @@ struct EditedMesh {
 /// The material of new face t of `edit` on `old` (LocalEdit::new_face_origin), with
 /// `cut_surface` the index of the cut-surface material.
 [[nodiscard]] int new_face_material(const mesh::Mesh& old, const LocalEdit& edit, std::size_t t, int cut_surface);
+
+/// L⁻¹ y for the linear part L of a vertex's blended skinning transform (the closed-form 3×3
+/// inverse); nothing when that blend of joints collapses space (a zero scale).
+[[nodiscard]] std::optional<Eigen::Vector3d> unskin(const Eigen::Matrix3d& l, const Eigen::Vector3d& y);
 
 /// The old faces that are not removed, in their order, then the new faces; vertices no face
 /// uses are dropped, the others keep their relative order (old ones first). Faces keep their

@@ -448,8 +448,9 @@ std::map<std::pair<int, int>, int> Tearer::copy_for_groups(int i, long long k, c
 
 void Tearer::move_vertex(mesh::Mesh& m, RowMatrixXf<3>& placed, int v, const Eigen::Vector3d& shift) const {
   placed.row(v) += shift.cast<float>().transpose();
-  const Eigen::Matrix3d linear = anim::blended_affine(m, palette_, v).leftCols<3>();
-  m.positions.row(v) += linear.colPivHouseholderQr().solve(shift).cast<float>().transpose();
+  // A blend of joints that collapses space has no rest-space direction for the shift.
+  if (const auto rest = unskin(anim::blended_affine(m, palette_, v).leftCols<3>(), shift))
+    m.positions.row(v) += rest->cast<float>().transpose();
 }
 
 // ---- geometry -----------------------------------------------------------------------------------
