@@ -283,23 +283,20 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
     if (uses_cga) {
       const cga::Versor<double> global =
           j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
+      const bool skinned = !mesh.skin.empty();
+      // Eq. (17)'s map of M_n B_n; with motors (no dilation) the product and the sandwiches run
+      // on 8 coefficients instead of 16.
+      if (mode == SkinningMode::cga && is_motor(global) && (!skinned || is_motor(mesh.skin.inverse_bind_versors[k]))) {
+        cga::Motor<double> m = cga::project<cga::mask::motor>(global);
+        if (skinned) m = cga::Motor<double>(m * cga::project<cga::mask::motor>(mesh.skin.inverse_bind_versors[k]));
+        p.affine.push_back(cga::PointMap<double>(m).affine_matrix().cast<float>());
+        continue;
+      }
+      cga::Versor<double> v = global;
+      if (skinned) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
       if (mode == SkinningMode::cga) {
-        // Eq. (17)'s map of M_n B_n; with motors (no dilation) the product and the sandwiches
-        // run on 8 coefficients instead of 16.
-        const bool motors = is_motor(global) && (mesh.skin.empty() || is_motor(mesh.skin.inverse_bind_versors[k]));
-        if (motors) {
-          cga::Motor<double> m = cga::project<cga::mask::motor>(global);
-          if (!mesh.skin.empty())
-            m = cga::Motor<double>(m * cga::project<cga::mask::motor>(mesh.skin.inverse_bind_versors[k]));
-          p.affine.push_back(cga::PointMap<double>(m).affine_matrix().cast<float>());
-        } else {
-          cga::Versor<double> v = global;
-          if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
-          p.affine.push_back(cga::PointMap<double>(v).affine_matrix().cast<float>());
-        }
+        p.affine.push_back(cga::PointMap<double>(v).affine_matrix().cast<float>());
       } else {
-        cga::Versor<double> v = global;
-        if (!mesh.skin.empty()) v = cga::Versor<double>(v * mesh.skin.inverse_bind_versors[k]);
         cga::Versor<float> vf;
         for (std::size_t c = 0; c < cga::Versor<float>::size; ++c) vf[c] = static_cast<float>(v[c]);
         p.versors.push_back(vf);
@@ -341,8 +338,8 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
     // Decided on the whole mesh, so that every job of a frame stores alike: per vertex its rest
     // position, 4 joints, 4 weights and posed position (and its normal in and out).
     const std::size_t bytes = static_cast<std::size_t>(mesh.vertex_count()) * (normals ? 72 : 48);
-    const bool streaming = stores == SkinningStores::streaming ||
-                           (stores == SkinningStores::automatic && bytes > kStreamingBytes);
+    const bool streaming =
+        stores == SkinningStores::streaming || (stores == SkinningStores::automatic && bytes > kStreamingBytes);
     const detail::BlockJob job{&mesh, &p, positions.data(), normals ? normals->data() : nullptr, streaming};
     // A block a lane cannot do runs one vertex at a time (which reports the problem).
     for (Eigen::Index stop; (stop = blocks(job, begin, end)) < end - (end - begin) % 8;) {

@@ -172,8 +172,8 @@ class FaceSlots {
   const RowMatrixXf<3>& placed_;
   MeshIndex& index_;
   int count_;
-  bool materials_;                       ///< the mesh has face_materials
-  FlatMap<int> origin_;       ///< current id -> id before the edit of a moved face, or −1 once moved on
+  bool materials_;           ///< the mesh has face_materials
+  FlatMap<int> origin_;      ///< current id -> id before the edit of a moved face, or −1 once moved on
   std::vector<int> filled_;  ///< the keys of origin_
 };
 

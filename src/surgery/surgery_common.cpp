@@ -236,7 +236,8 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   const int total = nv + static_cast<int>(edit.new_vertices.size());
   const std::vector<int> removed = checked_removed_faces(old, edit);
   // Kept faces in runs between removed ones (block copies), then the new faces.
-  mesh::Faces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces.size()), 3);
+  mesh::Faces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces.size()),
+                    3);
   Eigen::Index row = 0, from = 0;
   const auto copy_run = [&](Eigen::Index to) {
     faces.middleRows(row, to - from) = old.faces.middleRows(from, to - from);
