@@ -90,7 +90,7 @@ void report(benchmark::State& state, const mesh::Mesh& m) {
 }
 
 // Args: mode (0 cga, 1 versor, 2 matrix, 3 dqs), threads (0 = all), normals (0: positions
-// only, 1: and normals), kernel (0 automatic, 1 scalar, 2 vector, 3 avx2), stores (0 automatic,
+// only, 1: and normals), kernel (0 automatic, 1 scalar, 2 vector, 3 avx2, 4 avx512), stores (0 automatic,
 // 1 caching, 2 streaming).
 void skin_frame(benchmark::State& state, const mesh::Mesh& m) {
   const auto mode = static_cast<anim::SkinningMode>(state.range(0));
@@ -151,6 +151,7 @@ void modes(benchmark::internal::Benchmark* b) {
     b->Args({mode, 1, 0, 0, 0});  // one core, the fastest kernel here
     b->Args({mode, 1, 1, 0, 0});  // with normals
     b->Args({mode, 1, 0, 1, 0});  // the scalar kernel
+    b->Args({mode, 1, 0, 3, 0});  // avx2, where automatic takes avx512
     b->Args({mode, 0, 0, 0, 0});  // every core
     b->Args({mode, 1, 0, 0, 1});  // ordinary stores whatever the size
     b->Args({mode, 1, 1, 0, 1});  // and with normals

@@ -237,8 +237,14 @@ void pack(SkinningPalette& p) {
 
 /// Kernel `k` resolved (automatic: the fastest available); throws when it cannot run here.
 SkinningKernel resolve(SkinningKernel k) {
-  if (k == SkinningKernel::automatic) return detail::cpu_has_avx2_fma() ? SkinningKernel::avx2 : SkinningKernel::vector;
-  if (!kernel_available(k)) throw InvalidInputError("skinning: this processor has no AVX2 and FMA for the avx2 kernel");
+  if (k == SkinningKernel::automatic)
+    return detail::cpu_has_avx512()     ? SkinningKernel::avx512
+           : detail::cpu_has_avx2_fma() ? SkinningKernel::avx2
+                                        : SkinningKernel::vector;
+  if (!kernel_available(k))
+    throw InvalidInputError(k == SkinningKernel::avx2
+                                ? "skinning: this processor has no AVX2 and FMA for the avx2 kernel"
+                                : "skinning: this processor has no AVX-512 (F, VL, DQ, BW) for the avx512 kernel");
   return k;
 }
 
@@ -265,7 +271,14 @@ void validate(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Ei
 }  // namespace
 
 bool kernel_available(SkinningKernel kernel) noexcept {
-  return kernel != SkinningKernel::avx2 || detail::cpu_has_avx2_fma();
+  switch (kernel) {
+    case SkinningKernel::avx2:
+      return detail::cpu_has_avx2_fma();
+    case SkinningKernel::avx512:
+      return detail::cpu_has_avx512();
+    default:
+      return true;
+  }
 }
 
 SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
@@ -333,8 +346,9 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
   normals = normals && mesh.normals.rows() > 0 ? normals : nullptr;
   validate(mesh, p, begin, end, positions, normals);
   if (kernel != SkinningKernel::scalar) {
-    const detail::BlockKernel blocks =
-        kernel == SkinningKernel::avx2 ? detail::skin_blocks_avx2 : detail::skin_blocks_vector;
+    const detail::BlockKernel blocks = kernel == SkinningKernel::avx512 ? detail::skin_blocks_avx512
+                                       : kernel == SkinningKernel::avx2 ? detail::skin_blocks_avx2
+                                                                        : detail::skin_blocks_vector;
     // Decided on the whole mesh, so that every job of a frame stores alike: per vertex its rest
     // position, 4 joints, 4 weights and posed position (and its normal in and out).
     const std::size_t bytes = static_cast<std::size_t>(mesh.vertex_count()) * (normals ? 72 : 48);

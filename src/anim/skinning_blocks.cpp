@@ -8,13 +8,13 @@
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/cga/versors.hpp"
 
-// Every function here is internal and inlined into the two entry points: the warning that 32-byte
+// Every function here is internal and inlined into the entry points: the warning that 32-byte
 // vectors passed by value change the calling convention without AVX does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-// The kernel is one template over the lane type. Its two entry points are flattened (every call
-// inlined), so the AVX2 entry's target attribute reaches all of its code, while nothing outside
-// them is compiled for AVX2: the released binary runs on any x86-64.
+// The kernel is one template over the lane type. Its three entry points are flattened (every call
+// inlined), so an entry's target attribute reaches all of its code, while nothing outside them is
+// compiled for AVX2 or AVX-512: the released binary runs on any x86-64.
 
 namespace cgamesh::detail {
 namespace {
@@ -473,10 +473,23 @@ __attribute__((flatten, target("avx2,fma"))) Index skin_blocks_avx2(const BlockJ
   return skin_blocks(job, begin, end);
 }
 
+// The same 8-lane code: AVX-512VL gives it 32 vector registers instead of 16 (the versor and dqs
+// blends no longer spill) and no 512-bit instruction, so no clock slowdown.
+__attribute__((flatten, target("avx2,fma,avx512f,avx512vl,avx512dq,avx512bw"))) Index skin_blocks_avx512(
+    const BlockJob& job, Index begin, Index end) {
+  return skin_blocks(job, begin, end);
+}
+
 bool cpu_has_avx2_fma() noexcept { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
+bool cpu_has_avx512() noexcept {
+  return cpu_has_avx2_fma() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+         __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
+}
 #else
 Index skin_blocks_avx2(const BlockJob& job, Index begin, Index end) { return skin_blocks(job, begin, end); }
+Index skin_blocks_avx512(const BlockJob& job, Index begin, Index end) { return skin_blocks(job, begin, end); }
 bool cpu_has_avx2_fma() noexcept { return false; }
+bool cpu_has_avx512() noexcept { return false; }
 #endif
 
 }  // namespace cgamesh::detail

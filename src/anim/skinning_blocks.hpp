@@ -1,7 +1,7 @@
 #pragma once
-// Private to the library: skinning in blocks of 8 vertices across vector lanes, the `vector`
-// and `avx2` kernels of anim::SkinningKernel. One source (skinning_blocks.cpp) compiled into
-// both: the baseline x86-64 build and an AVX2 + FMA build chosen at run time.
+// Private to the library: skinning in blocks of 8 vertices across vector lanes, the `vector`,
+// `avx2` and `avx512` kernels of anim::SkinningKernel. One source (skinning_blocks.cpp) compiled
+// into all three: the baseline x86-64 build, and AVX2 + FMA and AVX-512 builds chosen at run time.
 
 #include <Eigen/Core>
 
@@ -29,6 +29,9 @@ using BlockKernel = Eigen::Index (*)(const BlockJob& job, Eigen::Index begin, Ei
 [[nodiscard]] Eigen::Index skin_blocks_vector(const BlockJob& job, Eigen::Index begin, Eigen::Index end);
 /// AVX2 + FMA code; call only when cpu_has_avx2_fma().
 [[nodiscard]] Eigen::Index skin_blocks_avx2(const BlockJob& job, Eigen::Index begin, Eigen::Index end);
+/// AVX2 + FMA + AVX-512 (F, VL, DQ, BW) code on 256-bit vectors; call only when cpu_has_avx512().
+[[nodiscard]] Eigen::Index skin_blocks_avx512(const BlockJob& job, Eigen::Index begin, Eigen::Index end);
 [[nodiscard]] bool cpu_has_avx2_fma() noexcept;
+[[nodiscard]] bool cpu_has_avx512() noexcept;
 
 }  // namespace cgamesh::detail

@@ -1,4 +1,4 @@
-// The vector kernels (blocks of 8 vertices, baseline and AVX2 builds) against the scalar one.
+// The vector kernels (blocks of 8 vertices: baseline, AVX2 and AVX-512 builds) against the scalar one.
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -20,7 +20,8 @@ constexpr SkinningMode kModes[] = {SkinningMode::cga, SkinningMode::versor, Skin
 
 std::vector<SkinningKernel> fast_kernels() {
   std::vector<SkinningKernel> out{SkinningKernel::vector};
-  if (anim::kernel_available(SkinningKernel::avx2)) out.push_back(SkinningKernel::avx2);
+  for (SkinningKernel k : {SkinningKernel::avx2, SkinningKernel::avx512})
+    if (anim::kernel_available(k)) out.push_back(k);
   return out;
 }
 
@@ -115,19 +116,21 @@ TEST(SkinningKernels, EveryKernelEqualsTheScalarOneWithScaledJointsAndStaticMesh
   EXPECT_FALSE(anim::make_palette(model.meshes[0], gv, gm, SkinningMode::dqs).scales.empty());
 }
 
-TEST(SkinningKernels, AutomaticTakesAvx2WhenThereAndEveryOtherKernelRuns) {
+TEST(SkinningKernels, AutomaticTakesTheBestThereAndAnAbsentKernelIsAnError) {
   EXPECT_TRUE(anim::kernel_available(SkinningKernel::automatic));
   EXPECT_TRUE(anim::kernel_available(SkinningKernel::scalar));
   EXPECT_TRUE(anim::kernel_available(SkinningKernel::vector));
-  if (!anim::kernel_available(SkinningKernel::avx2)) {
-    const anim::RiggedModel model = io::load_model(cgamesh_test::demo_model());
-    const auto pose = anim::rest_pose(model.skeleton);
-    const auto p = anim::make_palette(model.meshes[0], anim::global_versors(model.skeleton, pose),
-                                      anim::global_matrices(model.skeleton, pose), SkinningMode::cga);
-    mesh::RowMatrixXf<3> out;
-    EXPECT_THROW(anim::skin_into(model.meshes[0], p, out, nullptr, {.kernel = SkinningKernel::avx2}),
-                 InvalidInputError);
-  }
+  // AVX-512 code carries AVX2 and FMA: a processor with the first has the second.
+  EXPECT_TRUE(!anim::kernel_available(SkinningKernel::avx512) || anim::kernel_available(SkinningKernel::avx2));
+  const anim::RiggedModel model = io::load_model(cgamesh_test::demo_model());
+  const auto pose = anim::rest_pose(model.skeleton);
+  const auto p = anim::make_palette(model.meshes[0], anim::global_versors(model.skeleton, pose),
+                                    anim::global_matrices(model.skeleton, pose), SkinningMode::cga);
+  for (SkinningKernel k : {SkinningKernel::avx2, SkinningKernel::avx512})
+    if (!anim::kernel_available(k)) {
+      mesh::RowMatrixXf<3> out;
+      EXPECT_THROW(anim::skin_into(model.meshes[0], p, out, nullptr, {.kernel = k}), InvalidInputError);
+    }
 }
 
 }  // namespace
