@@ -11,6 +11,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "../parallel_for.hpp"
+#include "polar.hpp"
 #include "skinning_blocks.hpp"
 
 namespace cgamesh::anim {
@@ -34,7 +35,7 @@ std::size_t palette_size(const Mesh& m) { return m.skin.empty() ? 1 : m.skin.pal
 /// rotation and S symmetric (polar decomposition; a mirror goes into S).
 Eigen::Matrix<float, 8, 1> dual_quaternion(const Eigen::Matrix4d& m, Eigen::Matrix3d& s) {
   Eigen::Matrix3d r;
-  Eigen::Affine3d(m).computeRotationScaling(&r, &s);
+  detail::rotation_scaling(m.topLeftCorner<3, 3>(), r, s);
   const Eigen::Quaterniond q(r);
   const Eigen::Vector3d t = m.topRightCorner<3, 1>();
   const Eigen::Quaterniond d = Eigen::Quaterniond(0, t.x(), t.y(), t.z()) * q;

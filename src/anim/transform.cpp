@@ -6,6 +6,8 @@
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/errors.hpp"
 
+#include "polar.hpp"
+
 namespace cgamesh::anim {
 
 Eigen::Matrix4d Transform::matrix() const {
@@ -33,7 +35,7 @@ Transform Transform::from_matrix(const Eigen::Matrix4d& m) {
   if (det < 0)
     throw InvalidInputError("transform matrix mirrors (negative determinant); a versor cannot hold a reflection");
   Eigen::Matrix3d r, s;
-  Eigen::Affine3d(m).computeRotationScaling(&r, &s);
+  detail::rotation_scaling(a, r, s);
   Transform t;
   t.translation = m.topRightCorner<3, 1>();
   t.rotation = Eigen::Quaterniond(r).normalized();
