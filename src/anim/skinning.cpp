@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <unistd.h>
 
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/interpolation.hpp"
@@ -271,6 +272,17 @@ void validate(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Ei
 
 }  // namespace
 
+std::size_t streaming_bytes() noexcept {
+  static const std::size_t bytes = [] {
+#if defined(_SC_LEVEL3_CACHE_SIZE)
+    for (const int level : {_SC_LEVEL4_CACHE_SIZE, _SC_LEVEL3_CACHE_SIZE, _SC_LEVEL2_CACHE_SIZE})
+      if (const long size = sysconf(level); size > 0) return static_cast<std::size_t>(size);
+#endif
+    return kStreamingBytes;
+  }();
+  return bytes;
+}
+
 bool kernel_available(SkinningKernel kernel) noexcept {
   switch (kernel) {
     case SkinningKernel::avx2:
@@ -354,7 +366,7 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
     // position, 4 joints, 4 weights and posed position (and its normal in and out).
     const std::size_t bytes = static_cast<std::size_t>(mesh.vertex_count()) * (normals ? 72 : 48);
     const bool streaming =
-        stores == SkinningStores::streaming || (stores == SkinningStores::automatic && bytes > kStreamingBytes);
+        stores == SkinningStores::streaming || (stores == SkinningStores::automatic && bytes > streaming_bytes());
     const detail::BlockJob job{&mesh, &p, positions.data(), normals ? normals->data() : nullptr, streaming};
     // A block a lane cannot do runs one vertex at a time (which reports the problem).
     for (Eigen::Index stop; (stop = blocks(job, begin, end)) < end - (end - begin) % 8;) {

@@ -1,5 +1,6 @@
 // The vector kernels (blocks of 8 vertices: baseline, AVX2 and AVX-512 builds) against the scalar one.
 #include <filesystem>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -80,6 +81,17 @@ void expect_kernels_agree(const anim::RiggedModel& model, const anim::Pose& pose
         EXPECT_TRUE(streamed_part == part);
       }
     }
+}
+
+TEST(SkinningKernels, AutomaticStreamsFramesLargerThanTheLastLevelCache) {
+  // The size the system reports (Linux: sysconf), or the 32 MiB fallback: no processor skinning
+  // meshes has a last-level cache under 256 KiB.
+  EXPECT_GE(anim::streaming_bytes(), std::size_t{256} << 10);
+#if defined(_SC_LEVEL3_CACHE_SIZE)
+  if (sysconf(_SC_LEVEL3_CACHE_SIZE) > 0 && sysconf(_SC_LEVEL4_CACHE_SIZE) <= 0) {
+    EXPECT_EQ(anim::streaming_bytes(), static_cast<std::size_t>(sysconf(_SC_LEVEL3_CACHE_SIZE)));
+  }
+#endif
 }
 
 TEST(SkinningKernels, EveryKernelEqualsTheScalarOneOnRealModels) {

@@ -39,17 +39,23 @@ enum class SkinningKernel { automatic, scalar, vector, avx2, avx512 };
 [[nodiscard]] bool kernel_available(SkinningKernel kernel) noexcept;
 
 /// How the `vector`, `avx2` and `avx512` kernels write the skinned rows (`scalar` always caches).
-///   automatic - streaming when a frame moves more than kStreamingBytes (48 bytes a vertex read
-///               and written, 24 more with normals), caching otherwise.
+///   automatic - streaming when a frame moves more than streaming_bytes() (48 bytes a vertex
+///               read and written, 24 more with normals), caching otherwise.
 ///   caching   - ordinary stores: the rows stay in the cache for whoever reads them next.
 ///   streaming - non-temporal stores: the rows go straight to memory, without the processor
 ///               first reading the lines they overwrite (on a mesh far larger than the caches
 ///               that read is a fifth of a frame's memory traffic).
 enum class SkinningStores { automatic, caching, streaming };
 
-/// A frame's bytes from which `automatic` streams: more than the last-level cache of most
-/// processors holds, so the rows written would not stay in it anyway.
+/// streaming_bytes() when the system does not report its caches: more than the last-level cache
+/// of most processors holds.
 inline constexpr std::size_t kStreamingBytes = std::size_t{32} << 20;
+
+/// A frame's bytes from which `automatic` streams: the size of the last-level cache as the
+/// system reports it (a frame larger than that cannot stay in it, so caching its rows only costs
+/// the reads of the lines they overwrite), else kStreamingBytes. Virtual machines may report a
+/// large share of the host's cache: then larger frames stay cached, as measured there.
+[[nodiscard]] std::size_t streaming_bytes() noexcept;
 
 /// How skin() and skin_into() split and run the work.
 struct SkinningOptions {
