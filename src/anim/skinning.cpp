@@ -300,6 +300,14 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
   p.mode = mode;
   const std::size_t n = palette_size(mesh);
   const bool uses_cga = mode == SkinningMode::cga || mode == SkinningMode::versor;
+  // Built every frame: one allocation per array, not a growth sequence.
+  if (mode == SkinningMode::cga || mode == SkinningMode::matrix) p.affine.reserve(n);
+  if (mode == SkinningMode::versor) p.versors.reserve(n);
+  if (mode == SkinningMode::dqs) {
+    p.dual_quats.reserve(n);
+    p.scales.reserve(n);
+  }
+  p.packed.reserve(17 * n);  // the largest stride (pack())
   for (std::size_t k = 0; k < n; ++k) {
     const int j = palette_joint(mesh, k);
     const std::size_t count = uses_cga ? globals_cga.size() : globals_matrix.size();
