@@ -37,21 +37,24 @@ def main(path):
         if sample is None:
             continue
 
-        def skin(mode, threads="1", normals="0", kernel="0"):
-            return rows.get(f"BM_Skin{model}/mode:{mode}/threads:{threads}/normals:{normals}/kernel:{kernel}/real_time")
+        def skin(mode, threads="1", normals="0", kernel="0", stores="0"):
+            return rows.get(f"BM_Skin{model}/mode:{mode}/threads:{threads}/normals:{normals}/kernel:{kernel}"
+                            f"/stores:{stores}/real_time")
 
         bound = sample["stream_vps"]
         two = rows.get(f"BM_StreamBound{model}/threads:2/real_time")
         two = f", 2 threads {two['items_per_second'] / 1e6:.0f} M/s" if two else ""
         print(f"\n| {model} ({int(sample['vertices'])} vertices; streaming bound {bound / 1e6:.0f} M/s{two}) "
-              "| vertices/s, 1 thread | of the bound | ÷ matrix | scalar kernel | vector ÷ scalar "
-              "| with normals ÷ without | all threads | ÷ 1 thread |\n|---|---|---|---|---|---|---|---|---|")
+              "| vertices/s, 1 thread | of the bound | ÷ matrix | scalar kernel | vector ÷ scalar | ÷ avx2 kernel "
+              "| with normals ÷ without | all threads | ÷ 1 thread |\n|---|---|---|---|---|---|---|---|---|---|")
         ref = skin("2")["items_per_second"]
         for mode, label in MODES.items():
             one, scalar, normals, every = skin(mode), skin(mode, kernel="1"), skin(mode, normals="1"), skin(mode, "0")
+            avx2 = skin(mode, kernel="3")  # absent (skipped) without AVX2
             ips = one["items_per_second"]
+            vs_avx2 = f"{ips / avx2['items_per_second']:.2f}" if avx2 and "items_per_second" in avx2 else "–"
             print(f"| {label} | {ips / 1e6:.1f} M | {one['of_stream']:.2f} | {ips / ref:.2f} "
-                  f"| {scalar['items_per_second'] / 1e6:.1f} M | {ips / scalar['items_per_second']:.2f} "
+                  f"| {scalar['items_per_second'] / 1e6:.1f} M | {ips / scalar['items_per_second']:.2f} | {vs_avx2} "
                   f"| {ips / normals['items_per_second']:.2f} | {every['items_per_second'] / 1e6:.1f} M "
                   f"| {every['items_per_second'] / ips:.2f} |")
 
