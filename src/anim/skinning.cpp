@@ -285,13 +285,16 @@ std::size_t streaming_bytes() noexcept {
 
 bool kernel_available(SkinningKernel kernel) noexcept {
   switch (kernel) {
+    case SkinningKernel::automatic:
+    case SkinningKernel::scalar:
+    case SkinningKernel::vector:
+      return true;
     case SkinningKernel::avx2:
       return detail::cpu_has_avx2_fma();
     case SkinningKernel::avx512:
       return detail::cpu_has_avx512();
-    default:
-      return true;
   }
+  return false;
 }
 
 SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,

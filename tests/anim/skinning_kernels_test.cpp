@@ -83,7 +83,7 @@ void expect_kernels_agree(const anim::RiggedModel& model, const anim::Pose& pose
     }
 }
 
-TEST(SkinningKernels, AutomaticStreamsFramesLargerThanTheLastLevelCache) {
+TEST(SkinningKernels, StreamingBytesIsTheReportedLastLevelCache) {
   // The size the system reports (Linux: sysconf), or the 32 MiB fallback: no processor skinning
   // meshes has a last-level cache under 256 KiB.
   EXPECT_GE(anim::streaming_bytes(), std::size_t{256} << 10);
