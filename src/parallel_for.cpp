@@ -1,9 +1,11 @@
 #include "parallel_for.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <thread>
 #include <unistd.h>
 #include <utility>
 
@@ -106,11 +108,16 @@ class ThreadPool {
 };
 
 ThreadPool& pool() {
-  static ThreadPool instance(static_cast<int>(std::thread::hardware_concurrency()) - 1);
+  static ThreadPool instance(hardware_threads() - 1);
   return instance;
 }
 
 }  // namespace
+
+int hardware_threads() noexcept {
+  static const int count = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return count;
+}
 
 void run_parts(Eigen::Index n, int parts, SpanJob job, std::vector<std::exception_ptr>& errors) {
   Batch batch{n, parts, job, &errors};

@@ -562,8 +562,7 @@ Eigen::MatrixXd cage_coordinates(const mesh::RowMatrixXf<3>& rest, const Cage& c
       error = std::current_exception();
     }
   };
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int threads = std::min(options.threads > 0 ? options.threads : hw, blocks);
+  const int threads = std::min(options.threads > 0 ? options.threads : detail::hardware_threads(), blocks);
   errors.resize(static_cast<std::size_t>(threads));
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker, std::ref(errors[static_cast<std::size_t>(t)]));

@@ -3,6 +3,7 @@
 // and calls from inside a part or from several threads at once neither deadlock nor mix.
 #include "parallel_for.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <numeric>
@@ -49,6 +50,14 @@ TEST(ParallelFor, SmallCallsRunInlineInOnePart) {
   });
   EXPECT_EQ(parts, 1);
   EXPECT_TRUE(inline_);
+}
+
+TEST(ParallelFor, AllThreadsMeansOnePartPerHardwareThread) {
+  const int hw = cgamesh::detail::hardware_threads();
+  EXPECT_EQ(hw, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  std::atomic<int> parts = 0;
+  parallel_for(64 * kMinPartSize, 0, [&](Eigen::Index, Eigen::Index) { ++parts; });
+  EXPECT_EQ(parts, hw);
 }
 
 TEST(ParallelFor, FirstExceptionInPartOrderAfterEveryPartFinished) {
