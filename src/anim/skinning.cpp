@@ -321,12 +321,12 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
       const cga::Versor<double> global =
           j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
       const bool skinned = !mesh.skin.empty();
-      // Eq. (17)'s map of M_n B_n; with motors (no dilation) the product and the sandwiches run
-      // on 8 coefficients instead of 16.
+      // Eq. (17)'s map of M_n B_n; with motors (no dilation) the product runs on 8 coefficients
+      // instead of 16, and the map is the rotor's sandwiches and the translator's offset.
       if (mode == SkinningMode::cga && is_motor(global) && (!skinned || is_motor(mesh.skin.inverse_bind_versors[k]))) {
         cga::Motor<double> m = cga::project<cga::mask::motor>(global);
         if (skinned) m = cga::Motor<double>(m * cga::project<cga::mask::motor>(mesh.skin.inverse_bind_versors[k]));
-        p.affine.push_back(cga::PointMap<double>(m).affine_matrix().cast<float>());
+        p.affine.push_back(cga::motor_affine_matrix(m).cast<float>());
         continue;
       }
       cga::Versor<double> v = global;

@@ -1,10 +1,12 @@
 // PointMap: a versor's sandwich on points as a 5x5 (or affine 3x4) matrix.
 
-#include <gtest/gtest.h>
-
 #include <cstddef>
+#include <limits>
+#include <numbers>
 #include <span>
 #include <vector>
+
+#include <gtest/gtest.h>
 
 #include "cga/test_util.hpp"
 
@@ -79,6 +81,41 @@ TYPED_TEST(PointMaps, TheFiveByFiveMatrixIsTheSandwichOnBasisVectors) {
   }
 }
 
+TYPED_TEST(PointMaps, MotorClosedFormIsThePointMapOfTheMotor) {
+  using T = TypeParam;
+  const T tol = pick<T>(1e-12, 5e-5);
+  Rng rng(0x80003 + sizeof(T));
+  for (int k = 0; k < 200; ++k) {
+    const auto f = random_similarity<T>(rng);
+    // Composed both ways round, at any scale and sign (the map of s M is the map of M).
+    const auto g = random_similarity<T>(rng);
+    const T s = (k % 2 ? T(-1) : T(1)) * rng.log_uniform<T>(T(0.01), T(100));
+    const Motor<T> m = k % 3 == 0 ? f.motor() : Motor<T>(f.motor() * g.motor() * s);
+    const Eigen::Matrix<T, 3, 4> a = motor_affine_matrix(m);
+    EXPECT_MAT_NEAR(a, PointMap<T>(m).affine_matrix(), tol * T(10)) << "case " << k;
+    if (k % 3 == 0) {
+      Eigen::Matrix<T, 3, 4> expected;
+      expected << f.linear() / f.scale, f.t;
+      EXPECT_MAT_NEAR(a, expected, tol * T(10)) << "case " << k;
+    }
+  }
+  // Half turns (the rotor's scalar part is zero), pure translations and the identity.
+  const Vec3<T> t(T(1), T(-2), T(3));
+  for (const Vec3<T>& axis : {Vec3<T>(Vec3<T>::UnitX()), Vec3<T>(Vec3<T>::UnitY()), Vec3<T>(T(0.6), T(0), T(0.8))}) {
+    const Motor<T> m(translator(t) * rotor(axis, std::numbers::pi_v<T>));
+    EXPECT_MAT_NEAR(motor_affine_matrix(m), PointMap<T>(m).affine_matrix(), tol);
+  }
+  EXPECT_MAT_NEAR(motor_affine_matrix(Motor<T>(translator(t))), PointMap<T>(translator(t)).affine_matrix(), tol);
+  const Motor<T> one(basis_blade<T, cgamesh::cga::blade::scalar>());
+  EXPECT_MAT_NEAR(motor_affine_matrix(one), Eigen::Matrix<T, 3, 4>(Eigen::Matrix<T, 3, 4>::Identity()), T(0));
+  // Without a rotor part it is no motor.
+  EXPECT_THROW((void)motor_affine_matrix(Motor<T>(basis_blade<T, cgamesh::cga::blade::e1inf>())),
+               cgamesh::InvalidInputError);
+  Motor<T> nan = one;
+  nan.template at<cgamesh::cga::blade::e12>() = std::numeric_limits<T>::quiet_NaN();
+  EXPECT_THROW((void)motor_affine_matrix(nan), cgamesh::InvalidInputError);
+}
+
 TYPED_TEST(PointMaps, NonSimilaritiesKeepTheRationalForm) {
   using T = TypeParam;
   const T tol = pick<T>(1e-12, 1e-4);
@@ -87,7 +124,8 @@ TYPED_TEST(PointMaps, NonSimilaritiesKeepTheRationalForm) {
   EXPECT_MV_NEAR(k_dense, T(1) + basis_blade<T, blade::e1 | blade::eo>(T(0.3)), pick<T>(1e-15, 1e-7));
   const Versor<T> transversion = project<mask::versor>(k_dense);
   // Also composed with a translation and a rotation: still not a similarity.
-  const Versor<T> composed = Versor<T>(translator<T>(Vec3<T>(1, -2, 0.5)) * rotor<T>(Vec3<T>(0, 1, 1), T(0.4)) * transversion);
+  const Versor<T> composed =
+      Versor<T>(translator<T>(Vec3<T>(1, -2, 0.5)) * rotor<T>(Vec3<T>(0, 1, 1), T(0.4)) * transversion);
   // An odd versor: the inversion in the unit sphere, x -> x / |x|^2.
   const Vector<T> inversion = sphere<T>(Vec3<T>(0, 0, 0), T(1));
   Rng rng(0x80003 + sizeof(T));
