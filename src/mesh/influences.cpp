@@ -5,13 +5,34 @@
 
 namespace cgamesh::mesh {
 
+namespace {
+
+/// Sorts by `less`: insertion sort for the few influences of a blended vertex (2–3 vertices × 4),
+/// where std::sort's and std::partial_sort's set-up costs more than the sorting; std::sort above.
+template <class Less>
+void sort_influences(std::span<Influence> s, Less less) noexcept {
+  if (s.size() > 16) {
+    std::sort(s.begin(), s.end(), less);
+    return;
+  }
+  for (std::size_t i = 1; i < s.size(); ++i) {
+    const Influence x = s[i];
+    std::size_t j = i;
+    for (; j > 0 && less(x, s[j - 1]); --j) s[j] = s[j - 1];
+    s[j] = x;
+  }
+}
+
+}  // namespace
+
 TopInfluences top_influences(std::span<Influence> all) noexcept {
   TopInfluences out;
   // Positive weights first, by joint, so that the copies of a joint are next to each other.
-  const auto positive = std::partition(all.begin(), all.end(),
-                                       [](const Influence& i) { return i.weight > 0 && std::isfinite(i.weight); });
-  const std::span<Influence> used(all.begin(), positive);
-  std::sort(used.begin(), used.end(), [](const Influence& a, const Influence& b) { return a.joint < b.joint; });
+  std::size_t positive = 0;
+  for (const Influence& i : all)
+    if (i.weight > 0 && std::isfinite(i.weight)) all[positive++] = i;
+  const std::span<Influence> used = all.first(positive);
+  sort_influences(used, [](const Influence& a, const Influence& b) { return a.joint < b.joint; });
   std::size_t n = 0;
   for (std::size_t i = 0; i < used.size(); ++i) {
     if (n > 0 && used[n - 1].joint == used[i].joint) {
@@ -23,10 +44,14 @@ TopInfluences top_influences(std::span<Influence> all) noexcept {
   }
   out.distinct = static_cast<int>(n);
   const std::size_t kept = std::min<std::size_t>(n, 4);
-  std::partial_sort(used.begin(), used.begin() + static_cast<std::ptrdiff_t>(kept),
-                    used.begin() + static_cast<std::ptrdiff_t>(n), [](const Influence& a, const Influence& b) {
-                      return a.weight > b.weight || (a.weight == b.weight && a.joint < b.joint);
-                    });
+  const auto heavier = [](const Influence& a, const Influence& b) {
+    return a.weight > b.weight || (a.weight == b.weight && a.joint < b.joint);
+  };
+  if (n > 16)
+    std::partial_sort(used.begin(), used.begin() + static_cast<std::ptrdiff_t>(kept),
+                      used.begin() + static_cast<std::ptrdiff_t>(n), heavier);
+  else
+    sort_influences(used.first(n), heavier);
   out.kept = static_cast<int>(kept);
   if (kept == 0) return out;
   double sum = 0;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 #include <vector>
 
@@ -58,6 +59,39 @@ TEST(Influences, SumIsOneToHalfAnUlpAndOrderDoesNotMatter) {
     for (const float w : a.weights) sum += w;
     EXPECT_LE(std::abs(sum - 1.0), 0.5 * std::numeric_limits<float>::epsilon()) << round;
     for (int k = 1; k < a.kept; ++k) EXPECT_GE(a.weights[k - 1], a.weights[k]);
+  }
+}
+
+TEST(Influences, TheLargestFourOfAnyCountAsAReferenceKeepsThem) {
+  // Counts on both sides of the insertion sort's limit (16), duplicated joints, zero, negative
+  // and NaN weights, against a plain merge-and-sort.
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> weight(-0.2f, 1.0f);
+  for (int round = 0; round < 2000; ++round) {
+    const int count = round % 41;
+    std::uniform_int_distribution<int> joint(0, 1 + round % 23);
+    std::vector<Influence> in(static_cast<std::size_t>(count));
+    for (Influence& i : in) {
+      i = {weight(rng), static_cast<std::uint16_t>(joint(rng))};
+      if (rng() % 17 == 0) i.weight = std::numeric_limits<float>::quiet_NaN();
+    }
+    std::map<std::uint16_t, double> merged;
+    for (const Influence& i : in)
+      if (i.weight > 0 && std::isfinite(i.weight)) merged[i.joint] += i.weight;
+    std::vector<std::pair<double, std::uint16_t>> by_weight;
+    for (const auto& [j, w] : merged) by_weight.emplace_back(-w, j);
+    std::sort(by_weight.begin(), by_weight.end());
+    const std::size_t kept = std::min<std::size_t>(by_weight.size(), 4);
+    double sum = 0;
+    for (std::size_t k = 0; k < kept; ++k) sum -= by_weight[k].first;
+    const TopInfluences t = top_influences(in);
+    ASSERT_EQ(t.kept, static_cast<int>(kept)) << round;
+    EXPECT_EQ(t.distinct, static_cast<int>(merged.size())) << round;
+    for (std::size_t k = 0; k < kept; ++k) {
+      EXPECT_EQ(t.joints[k], by_weight[k].second) << round << " slot " << k;
+      EXPECT_NEAR(t.weights[k], -by_weight[k].first / sum, 1e-6) << round << " slot " << k;
+    }
+    for (std::size_t k = kept; k < 4; ++k) EXPECT_EQ(t.weights[k], 0.0f) << round;
   }
 }
 
