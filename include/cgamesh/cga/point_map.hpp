@@ -119,14 +119,14 @@ template <class T>
     throw InvalidInputError("motor_affine_matrix: the rotor part's norm <R ~R> = " + std::to_string(n) +
                             " is not positive (not a motor)");
   const Rotor<T> r_inverse = reverse(r) / n;
-  Eigen::Matrix<T, 3, 4> a;
-  [&]<std::size_t... J>(std::index_sequence<J...>) {
-    const auto column = [&](const Vector<T>& y) { return Vec3<T>(y[0], y[1], y[2]); };
-    ((a.col(J) = column(product_part<mask::vector>(r * basis_blade<T, BladeIndex{1} << J>(), r_inverse))), ...);
-  }
-  (std::make_index_sequence<3>{});
+  const auto image = [&](const auto& e) {
+    const Vector<T> y = product_part<mask::vector>(r * e, r_inverse);
+    return Vec3<T>(y[0], y[1], y[2]);
+  };
   const Translator<T> t = project<mask::translator>(m * r_inverse);
-  a.col(3) = T(-2) * Vec3<T>(t[1], t[2], t[3]);
+  Eigen::Matrix<T, 3, 4> a;
+  a << image(basis_blade<T, blade::e1>()), image(basis_blade<T, blade::e2>()), image(basis_blade<T, blade::e3>()),
+      T(-2) * Vec3<T>(t[1], t[2], t[3]);
   return a;
 }
 
