@@ -106,27 +106,21 @@ class PointMap {
 };
 
 /// [A b] of PointMap(m) for a motor m = T R (a rigid motion at any scale, as eq. (17)'s M_n B_n
-/// without dilations): A from the rotor's sandwiches R e_j R^-1 (j = 1, 2, 3) and b = -2 <m R^-1>
-/// read off the translator T = 1 - b einf / 2. The same map as PointMap's five sandwiches of the
-/// motor, in about a quarter of the products.
+/// without dilations): A from the unit rotor's sandwiches R e_j ~R (j = 1, 2, 3), b the
+/// translation of T (`decompose`). The same map as PointMap's five sandwiches of the motor, in
+/// about a quarter of the products.
 /// @param[in] m  motor: a product of rotors and translators times a nonzero scalar
-/// @throws InvalidInputError when m's rotor part has zero or non-finite norm (m is not a motor).
+/// @throws InvalidInputError when m has no rotor part (it is not a motor).
 template <class T>
 [[nodiscard]] Eigen::Matrix<T, 3, 4> motor_affine_matrix(const Motor<T>& m) {
-  const Rotor<T> r = project<mask::rotor>(m);
-  const T n = norm_squared(r);
-  if (!(n > T(0)) || !std::isfinite(n))
-    throw InvalidInputError("motor_affine_matrix: the rotor part's norm <R ~R> = " + std::to_string(n) +
-                            " is not positive (not a motor)");
-  const Rotor<T> r_inverse = reverse(r) / n;
+  const SimilarityParts<T> parts = decompose(m);
   const auto image = [&](const auto& e) {
-    const Vector<T> y = product_part<mask::vector>(r * e, r_inverse);
+    const Vector<T> y = unit_sandwich(parts.rotation, e);
     return Vec3<T>(y[0], y[1], y[2]);
   };
-  const Translator<T> t = project<mask::translator>(m * r_inverse);
   Eigen::Matrix<T, 3, 4> a;
   a << image(basis_blade<T, blade::e1>()), image(basis_blade<T, blade::e2>()), image(basis_blade<T, blade::e3>()),
-      T(-2) * Vec3<T>(t[1], t[2], t[3]);
+      parts.translation;
   return a;
 }
 
