@@ -13,22 +13,40 @@ namespace {
 
 constexpr int kLeafSize = 4;
 
-/// Whether the segment a + t·dir, t ∈ [0, 1], meets the box [lo, hi] (slab test, with a relative
-/// slack of 1e-12 for rounding).
-bool segment_meets_box(const Eigen::Vector3d& a, const Eigen::Vector3d& dir, const Eigen::Vector3d& lo,
-                       const Eigen::Vector3d& hi) {
-  const Eigen::Vector3d b = a + dir;
-  if ((lo.array() > a.cwiseMax(b).array()).any() || (hi.array() < a.cwiseMin(b).array()).any()) return false;
-  double t0 = 0, t1 = 1;
-  for (int k = 0; k < 3; ++k) {
-    if (dir[k] == 0) continue;
-    double ta = (lo[k] - a[k]) / dir[k], tb = (hi[k] - a[k]) / dir[k];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
+/// The segment a + t·dir, t ∈ [0, 1], set up once for many box tests: its own box, and the
+/// reciprocals of its direction (a product per slab instead of a division). Scalar code on
+/// purpose: Eigen's 3-vectors of doubles here compiled to 8-byte stores read back as 16-byte
+/// loads, whose stalls were most of a query's time.
+class Segment {
+ public:
+  Segment(const Eigen::Vector3d& a, const Eigen::Vector3d& dir) {
+    for (int k = 0; k < 3; ++k) {
+      a_[k] = a[k];
+      lo_[k] = std::min(a[k], a[k] + dir[k]);
+      hi_[k] = std::max(a[k], a[k] + dir[k]);
+      inverse_[k] = 1 / dir[k];
+    }
   }
-  return t0 <= t1 * (1 + 1e-12) + 1e-12;
-}
+  /// Whether the segment meets the box [lo − grow, hi + grow] (slab test, with a relative slack
+  /// of 1e-12 for rounding).
+  [[nodiscard]] bool meets(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, double grow) const {
+    double t0 = 0, t1 = 1;
+    for (int k = 0; k < 3; ++k) {
+      const double l = static_cast<double>(lo[k]) - grow, h = static_cast<double>(hi[k]) + grow;
+      if (l > hi_[k] || h < lo_[k]) return false;
+      // Along an axis the segment does not move, the test above is the whole slab test.
+      if (!std::isfinite(inverse_[k])) continue;
+      double ta = (l - a_[k]) * inverse_[k], tb = (h - a_[k]) * inverse_[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    return t0 <= t1 * (1 + 1e-12) + 1e-12;
+  }
+
+ private:
+  double a_[3], lo_[3], hi_[3], inverse_[3];
+};
 
 }  // namespace
 
@@ -55,6 +73,10 @@ TriangleBvh::TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces) {
   parent_.reserve(nodes_.capacity());
   if (nf > 0) build(0, static_cast<int>(nf), -1, centroids);
   first_appended_.assign(nodes_.size(), -1);
+  slot_corners_.resize(corners_.size());
+  for (std::size_t i = 0; i < order_.size(); ++i)
+    for (std::size_t k = 0; k < 3; ++k)
+      slot_corners_[3 * i + k] = corners_[3 * static_cast<std::size_t>(order_[i]) + k];
 }
 
 int TriangleBvh::build(int begin, int end, int parent, std::vector<Eigen::Vector3f>& centroids) {
@@ -107,10 +129,11 @@ void TriangleBvh::traverse(Overlaps&& overlaps, Visit&& visit) const {
     if (!overlaps(node.lo, node.hi)) continue;
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i)
-        if (const int f = order_[static_cast<std::size_t>(i)]; f >= 0) visit(f);
+        if (const int f = order_[static_cast<std::size_t>(i)]; f >= 0)
+          visit(f, &slot_corners_[3 * static_cast<std::size_t>(i)]);
       for (int f = first_appended_[static_cast<std::size_t>(&node - nodes_.data())]; f >= 0;
            f = next_appended_[static_cast<std::size_t>(f)])
-        visit(f);
+        visit(f, &corners_[3 * static_cast<std::size_t>(f)]);
     } else {
       stack[top++] = node.first;
       stack[top++] = static_cast<int>(&node - nodes_.data()) + 1;
@@ -124,11 +147,11 @@ void TriangleBvh::faces_near_plane(const Eigen::Vector3d& n, double d, double to
         const Eigen::Vector3d c = 0.5 * (lo + hi).cast<double>(), h = 0.5 * (hi - lo).cast<double>();
         return std::abs(n.dot(c) - d) <= n.cwiseAbs().dot(h) + tolerance;
       },
-      [&](int f) {
+      [&](int f, const Eigen::Vector3f* corners) {
         // The face itself, not only its leaf: some corner within the slab, or corners on both sides.
         double lo = INFINITY, hi = -INFINITY;
         for (std::size_t k = 0; k < 3; ++k) {
-          const double x = n.dot(corners_[3 * static_cast<std::size_t>(f) + k].cast<double>()) - d;
+          const double x = n.dot(corners[k].cast<double>()) - d;
           lo = std::min(lo, x);
           hi = std::max(hi, x);
         }
@@ -141,43 +164,47 @@ void TriangleBvh::faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d&
       [&](const Eigen::Vector3f& nlo, const Eigen::Vector3f& nhi) {
         return (nlo.cast<double>().array() <= hi.array()).all() && (nhi.cast<double>().array() >= lo.array()).all();
       },
-      [&](int f) { out.push_back(f); });
+      [&](int f, const Eigen::Vector3f*) { out.push_back(f); });
 }
 
 void TriangleBvh::faces_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius,
                                      std::vector<int>& out) const {
   const Eigen::Vector3d dir = b - a;
   const double length2 = dir.squaredNorm();
+  const Segment segment(a, dir);
   // Within `radius` of the segment (Euclidean) implies meeting the box grown by `radius` (L∞):
   // the test of the nodes, and the first one of each face, then a sphere bound around its box.
-  traverse(
-      [&](const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
-        return segment_meets_box(a, dir, (lo.cast<double>().array() - radius).matrix(),
-                                 (hi.cast<double>().array() + radius).matrix());
-      },
-      [&](int f) {
-        Eigen::Vector3d lo = corners_[3 * static_cast<std::size_t>(f)].cast<double>(), hi = lo;
-        for (std::size_t k = 1; k < 3; ++k) {
-          lo = lo.cwiseMin(corners_[3 * static_cast<std::size_t>(f) + k].cast<double>());
-          hi = hi.cwiseMax(corners_[3 * static_cast<std::size_t>(f) + k].cast<double>());
-        }
-        if (!segment_meets_box(a, dir, (lo.array() - radius).matrix(), (hi.array() + radius).matrix())) return;
-        const Eigen::Vector3d c = 0.5 * (lo + hi);
-        const double t = length2 > 0 ? std::clamp((c - a).dot(dir) / length2, 0.0, 1.0) : 0.0;
-        const double reach = radius + 0.5 * (hi - lo).norm();
-        if ((a + t * dir - c).squaredNorm() <= reach * reach * (1 + 1e-12)) out.push_back(f);
-      });
+  traverse([&](const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) { return segment.meets(lo, hi, radius); },
+           [&](int f, const Eigen::Vector3f* p) {
+             const Eigen::Vector3f lo = p[0].cwiseMin(p[1]).cwiseMin(p[2]), hi = p[0].cwiseMax(p[1]).cwiseMax(p[2]);
+             if (!segment.meets(lo, hi, radius)) return;
+             double t = 0, half2 = 0;
+             double c[3];
+             for (int k = 0; k < 3; ++k) {
+               c[k] = 0.5 * (static_cast<double>(lo[k]) + static_cast<double>(hi[k]));
+               const double h = 0.5 * (static_cast<double>(hi[k]) - static_cast<double>(lo[k]));
+               half2 += h * h;
+               t += (c[k] - a[k]) * dir[k];
+             }
+             t = length2 > 0 ? std::clamp(t / length2, 0.0, 1.0) : 0.0;
+             double d2 = 0;
+             for (int k = 0; k < 3; ++k) {
+               const double d = a[k] + t * dir[k] - c[k];
+               d2 += d * d;
+             }
+             const double reach = radius + std::sqrt(half2);
+             if (d2 <= reach * reach * (1 + 1e-12)) out.push_back(f);
+           });
 }
 
 std::vector<SegmentHit> TriangleBvh::segment_hits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
   const Eigen::Vector3d dir = b - a;
+  const Segment segment(a, dir);
   std::vector<SegmentHit> hits;
-  traverse([&](const Eigen::Vector3f& lo,
-               const Eigen::Vector3f& hi) { return segment_meets_box(a, dir, lo.cast<double>(), hi.cast<double>()); },
-           [&](int f) {
-             const auto fi = static_cast<std::size_t>(f);
-             const Eigen::Vector3d p0 = corners_[3 * fi].cast<double>(), e1 = corners_[3 * fi + 1].cast<double>() - p0,
-                                   e2 = corners_[3 * fi + 2].cast<double>() - p0;
+  traverse([&](const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) { return segment.meets(lo, hi, 0.0); },
+           [&](int f, const Eigen::Vector3f* corners) {
+             const Eigen::Vector3d p0 = corners[0].cast<double>(), e1 = corners[1].cast<double>() - p0,
+                                   e2 = corners[2].cast<double>() - p0;
              const Eigen::Vector3d pv = dir.cross(e2);
              const double det = e1.dot(pv);
              if (std::abs(det) <= 1e-300) return;  // segment parallel to the face plane
@@ -200,7 +227,10 @@ std::vector<SegmentHit> TriangleBvh::segment_hits(const Eigen::Vector3d& a, cons
 void TriangleBvh::set_corners(int f, const std::array<Eigen::Vector3f, 3>& corners) {
   if (!corners[0].allFinite() || !corners[1].allFinite() || !corners[2].allFinite())
     throw InvalidInputError("TriangleBvh: a placed corner is NaN or infinite");
-  for (std::size_t k = 0; k < 3; ++k) corners_[3 * static_cast<std::size_t>(f) + k] = corners[k];
+  const auto fi = static_cast<std::size_t>(f);
+  for (std::size_t k = 0; k < 3; ++k) corners_[3 * fi + k] = corners[k];
+  if (fi < slot_of_.size() && slot_of_[fi] >= 0)
+    for (std::size_t k = 0; k < 3; ++k) slot_corners_[3 * static_cast<std::size_t>(slot_of_[fi]) + k] = corners[k];
 }
 
 void TriangleBvh::grow(int leaf, const std::array<Eigen::Vector3f, 3>& corners) {

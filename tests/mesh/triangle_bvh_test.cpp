@@ -116,8 +116,8 @@ double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, c
 }
 
 // The drill's candidates: every face with a point within the radius of the segment (checked on a
-// dense sampling of each face), each once, and only faces whose box comes near it — on an
-// edited tree too.
+// dense sampling of each face), each once, and only faces whose box comes near it — on a tree
+// edited by appends, replacements and erasures too, and for segments along an axis.
 TEST(TriangleBvh, FacesNearASegmentAreEveryFaceWithinTheRadius) {
   std::mt19937 rng(5);
   std::vector<Triangle> tris;
@@ -127,9 +127,23 @@ TEST(TriangleBvh, FacesNearASegmentAreEveryFaceWithinTheRadius) {
     tris.push_back(random_triangle(rng, 0.3f));
     bvh.append(tris.back(), i);
   }
+  for (int i = 0; i < 60; ++i) {
+    const int f = (37 * i) % static_cast<int>(tris.size());
+    if (i % 2 == 0) {
+      tris[static_cast<std::size_t>(f)] = random_triangle(rng, 0.3f);
+      bvh.replace(f, tris[static_cast<std::size_t>(f)]);
+    } else {
+      tris[static_cast<std::size_t>(f)] = tris.back();
+      tris.pop_back();
+      bvh.erase(f);
+    }
+  }
   std::uniform_real_distribution<double> coord(-1, 11);
   for (int q = 0; q < 30; ++q) {
-    const Eigen::Vector3d a(coord(rng), coord(rng), coord(rng) * 0.1), b(coord(rng), coord(rng), coord(rng) * 0.1);
+    const Eigen::Vector3d a(coord(rng), coord(rng), coord(rng) * 0.1);
+    // Some segments run along an axis: their direction has zero components.
+    const Eigen::Vector3d b = q % 5 == 2 ? Eigen::Vector3d(a + Eigen::Vector3d(0, coord(rng), 0))
+                                         : Eigen::Vector3d(coord(rng), coord(rng), coord(rng) * 0.1);
     const double radius = q % 3 == 0 ? 0.0 : 0.05 * q;
     std::vector<int> near;
     bvh.faces_near_segment(a, q == 1 ? a : b, radius, near);

@@ -78,6 +78,8 @@ class TriangleBvh {
     std::int32_t first = 0;  ///< leaf: first index into order_; inner: right child (left is next)
     std::int32_t count = 0;  ///< faces in a leaf; 0 for an inner node
   };
+  /// Calls visit(f, corners) for every face f in a leaf whose box passes overlaps(lo, hi), with
+  /// `corners` pointing at its 3 placed corners.
   template <class Overlaps, class Visit>
   void traverse(Overlaps&& overlaps, Visit&& visit) const;
   int build(int begin, int end, int parent, std::vector<Eigen::Vector3f>& centroids);
@@ -91,8 +93,11 @@ class TriangleBvh {
   std::vector<int> parent_;               ///< per node: its parent, −1 for the root
   std::vector<int> order_;                ///< face indices in leaf order; −1 for an erased face
   std::vector<Eigen::Vector3f> corners_;  ///< 3 per face, by face index
-  std::vector<int> leaf_of_;              ///< per face: the leaf holding it
-  std::vector<int> slot_of_;              ///< per face: its index in order_, or −1 when appended
+  /// 3 per slot of order_ (a copy of corners_ for the faces built into leaves): a leaf's corners
+  /// lie side by side, so a query reads a few adjacent cache lines per leaf, not one per face.
+  std::vector<Eigen::Vector3f> slot_corners_;
+  std::vector<int> leaf_of_;  ///< per face: the leaf holding it
+  std::vector<int> slot_of_;  ///< per face: its index in order_, or −1 when appended
   // Faces added after the build: per leaf a doubly linked list (checked after the leaf's faces
   // in order_), so that appending and erasing allocate nothing.
   std::vector<int> first_appended_;     ///< per node: its first appended face, or −1
