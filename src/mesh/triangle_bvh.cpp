@@ -48,6 +48,12 @@ class Segment {
   double a_[3], lo_[3], hi_[3], inverse_[3];
 };
 
+/// @throws InvalidInputError when a corner is NaN or infinite.
+void require_finite(const std::array<Eigen::Vector3f, 3>& corners) {
+  if (!corners[0].allFinite() || !corners[1].allFinite() || !corners[2].allFinite())
+    throw InvalidInputError("TriangleBvh: a placed corner is NaN or infinite");
+}
+
 }  // namespace
 
 TriangleBvh::TriangleBvh(const RowMatrixXf<3>& positions, const Faces& faces) {
@@ -224,12 +230,11 @@ std::vector<SegmentHit> TriangleBvh::segment_hits(const Eigen::Vector3d& a, cons
   return hits;
 }
 
+// Face f has its slot_of_ entry already; its callers have checked the corners finite.
 void TriangleBvh::set_corners(int f, const std::array<Eigen::Vector3f, 3>& corners) {
-  if (!corners[0].allFinite() || !corners[1].allFinite() || !corners[2].allFinite())
-    throw InvalidInputError("TriangleBvh: a placed corner is NaN or infinite");
   const auto fi = static_cast<std::size_t>(f);
   for (std::size_t k = 0; k < 3; ++k) corners_[3 * fi + k] = corners[k];
-  if (fi < slot_of_.size() && slot_of_[fi] >= 0)  // append() sets a face's corners before its slot
+  if (slot_of_[fi] >= 0)
     for (std::size_t k = 0; k < 3; ++k) slot_corners_[3 * static_cast<std::size_t>(slot_of_[fi]) + k] = corners[k];
 }
 
@@ -258,6 +263,7 @@ void TriangleBvh::reserve(int faces) {
 
 void TriangleBvh::replace(int f, const std::array<Eigen::Vector3f, 3>& corners) {
   if (f < 0 || f >= face_count()) throw InvalidInputError("TriangleBvh: no face " + std::to_string(f) + " to replace");
+  require_finite(corners);
   set_corners(f, corners);
   grow(leaf_of_[static_cast<std::size_t>(f)], corners);
 }
@@ -265,11 +271,12 @@ void TriangleBvh::replace(int f, const std::array<Eigen::Vector3f, 3>& corners) 
 void TriangleBvh::append(const std::array<Eigen::Vector3f, 3>& corners, int near) {
   if (near < 0 || near >= face_count())
     throw InvalidInputError("TriangleBvh: no face " + std::to_string(near) + " to append next to");
+  require_finite(corners);  // before any array grows: a throw leaves the tree as it was
   const int f = face_count(), leaf = leaf_of_[static_cast<std::size_t>(near)];
   corners_.resize(corners_.size() + 3);
-  set_corners(f, corners);
   leaf_of_.push_back(leaf);
   slot_of_.push_back(-1);
+  set_corners(f, corners);
   // At the front of the leaf's list.
   int& first = first_appended_[static_cast<std::size_t>(leaf)];
   next_appended_.push_back(first);

@@ -184,6 +184,8 @@ TEST(TriangleBvh, EditsCheckTheirArguments) {
   Triangle bad = random_triangle(rng, 1);
   bad[1].x() = NAN;
   EXPECT_THROW(bvh.replace(0, bad), InvalidInputError);
+  EXPECT_THROW(bvh.append(bad, 0), InvalidInputError);
+  EXPECT_EQ(bvh.face_count(), 2);  // the failed append added nothing
   bvh.erase(0);
   bvh.erase(0);
   EXPECT_EQ(bvh.face_count(), 0);
