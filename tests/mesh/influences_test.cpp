@@ -76,8 +76,12 @@ TEST(Influences, TheLargestFourOfAnyCountAsAReferenceKeepsThem) {
       if (rng() % 17 == 0) i.weight = std::numeric_limits<float>::quiet_NaN();
     }
     std::map<std::uint16_t, double> merged;
+    bool repeated = false;  // a joint listed twice with positive weights
     for (const Influence& i : in)
-      if (i.weight > 0 && std::isfinite(i.weight)) merged[i.joint] += i.weight;
+      if (i.weight > 0 && std::isfinite(i.weight)) {
+        repeated = repeated || merged.contains(i.joint);
+        merged[i.joint] += i.weight;
+      }
     std::vector<std::pair<double, std::uint16_t>> by_weight;
     for (const auto& [j, w] : merged) by_weight.emplace_back(-w, j);
     std::sort(by_weight.begin(), by_weight.end());
@@ -87,6 +91,7 @@ TEST(Influences, TheLargestFourOfAnyCountAsAReferenceKeepsThem) {
     const TopInfluences t = top_influences(in);
     ASSERT_EQ(t.kept, static_cast<int>(kept)) << round;
     EXPECT_EQ(t.distinct, static_cast<int>(merged.size())) << round;
+    EXPECT_EQ(t.merged, repeated) << round;
     for (std::size_t k = 0; k < kept; ++k) {
       EXPECT_EQ(t.joints[k], by_weight[k].second) << round << " slot " << k;
       EXPECT_NEAR(t.weights[k], -by_weight[k].first / sum, 1e-6) << round << " slot " << k;
