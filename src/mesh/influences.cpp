@@ -38,7 +38,7 @@ TopInfluences top_influences(std::span<Influence> all) noexcept {
   if (!few) sort_influences(used, [](const Influence& a, const Influence& b) { return a.joint < b.joint; });
   std::size_t n = 0;
   for (std::size_t i = 0; i < used.size(); ++i) {
-    std::size_t j = few ? 0 : n - (n > 0 ? 1 : 0);
+    std::size_t j = few || n == 0 ? 0 : n - 1;  // sorted: a copy can only be the last kept
     while (j < n && used[j].joint != used[i].joint) ++j;
     if (j < n) {
       used[j].weight += used[i].weight;
