@@ -19,10 +19,13 @@
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <nlohmann/json.hpp>
 
+#include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/transform.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/mesh/influences.hpp"
+#include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/mesh/weld.hpp"
 
 #include "file_vertices.hpp"
@@ -82,6 +85,63 @@ void check_scale_keys(const anim::RiggedModel& model) {
                           ": a zero or mirroring scale has no versor");
       }
     }
+}
+
+/// `bytes` as UTF-8: itself when it is valid UTF-8 (glTF's names always are), else read as
+/// Latin-1, the encoding of the older formats' names (an OBJ's "Terraind\xe6k"), which any bytes
+/// are. Sets `converted` then. Writers and JSON need UTF-8, and a user cannot type the rest.
+std::string utf8_name(const char* bytes, bool& converted) {
+  std::string s(bytes);
+  try {
+    (void)nlohmann::json(s).dump();  // the JSON library's UTF-8 check
+    return s;
+  } catch (const nlohmann::json::type_error&) {
+    converted = true;
+  }
+  std::string out;
+  for (const unsigned char c : s) {
+    if (c < 0x80) {
+      out += static_cast<char>(c);
+    } else {
+      out += static_cast<char>(0xC0 | (c >> 6));
+      out += static_cast<char>(0x80 | (c & 0x3F));
+    }
+  }
+  return out;
+}
+
+/// Keys before t = 0 (LightWave's, for one; or an invalid glTF file's) are replaced by a key at
+/// 0 with the value the channel has there: a clip plays from 0 (anim::sample clamps), and glTF
+/// allows no negative time, so what plays is unchanged and the clip can be written.
+/// @throws FileError for such keys in a cubic-spline channel.
+void start_clips_at_zero(anim::RiggedModel& model) {
+  for (anim::Clip& clip : model.clips) {
+    double earliest = 0;
+    for (Channel& ch : clip.channels) {
+      if (ch.times.empty() || ch.times.front() >= 0) continue;
+      if (ch.interpolation == anim::Interpolation::cubic_spline)
+        throw FileError("clip '" + clip.name + "' has cubic-spline keys before t = 0 (from t = " +
+                        std::to_string(ch.times.front()) + "); cgamesh cannot start it at 0");
+      earliest = std::min(earliest, ch.times.front());
+      const anim::Clip one{.name = clip.name, .duration = std::max(0.0, ch.times.back()), .channels = {ch}};
+      const Transform at_zero =
+          anim::sample(model.skeleton, one, 0.0, anim::BlendMode::format).local[static_cast<std::size_t>(ch.joint)];
+      std::vector<double> value(at_zero.rotation.coeffs().data(), at_zero.rotation.coeffs().data() + 4);  // x y z w
+      if (ch.path == ChannelPath::translation)
+        value.assign(at_zero.translation.data(), at_zero.translation.data() + 3);
+      else if (ch.path == ChannelPath::scale)
+        value.assign(at_zero.scale.data(), at_zero.scale.data() + 3);
+      const auto before = std::lower_bound(ch.times.begin(), ch.times.end(), 0.0) - ch.times.begin();
+      ch.times.erase(ch.times.begin(), ch.times.begin() + before);
+      ch.values.erase(ch.values.begin(), ch.values.begin() + before * ch.components());
+      if (!ch.times.empty() && ch.times.front() == 0) continue;
+      ch.times.insert(ch.times.begin(), 0.0);
+      ch.values.insert(ch.values.begin(), value.begin(), value.end());
+    }
+    if (earliest < 0)
+      model.warnings.push_back("clip '" + clip.name + "' has keys before t = 0 (from t = " + std::to_string(earliest) +
+                               "); they are replaced by the pose they give at t = 0, where the clip starts");
+  }
 }
 
 class Loader {
@@ -146,7 +206,7 @@ class Loader {
   void collect_nodes(const aiNode* node, int parent) {
     const int index = static_cast<int>(editable_.joints.size());
     anim::JointDesc j;
-    j.name = node->mName.C_Str();
+    j.name = name(node->mName);
     if (j.name.empty()) j.name = "node" + std::to_string(index);
     j.parent = parent;
     const bool under_mirror = parent >= 0 && mirrored_[static_cast<std::size_t>(parent)];
@@ -163,7 +223,13 @@ class Loader {
     editable_.joints.push_back(std::move(j));
     by_name_.emplace(editable_.joints.back().name, index);
     for (unsigned m = 0; m < node->mNumMeshes; ++m) mesh_refs_.emplace_back(index, node->mMeshes[m]);
-    for (unsigned c = 0; c < node->mNumChildren; ++c) collect_nodes(node->mChildren[c], index);
+    // Some readers (Assimp's RAW) leave a child slot empty: the rest of the tree still loads.
+    for (unsigned c = 0; c < node->mNumChildren; ++c)
+      if (node->mChildren[c] != nullptr)
+        collect_nodes(node->mChildren[c], index);
+      else
+        warn("node '" + editable_.joints[static_cast<std::size_t>(index)].name + "': the reader left child " +
+             std::to_string(c) + " of " + std::to_string(node->mNumChildren) + " empty; skipped");
   }
 
   /// Whether two meshes are triangle meshes with the same vertices (every attribute cgamesh
@@ -189,7 +255,7 @@ class Loader {
     const aiMesh& in = *parts.front();
     if ((in.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) == 0) return;
     mesh::Mesh m;
-    m.name = in.mName.length > 0 ? in.mName.C_Str() : "mesh" + std::to_string(model_.meshes.size());
+    m.name = in.mName.length > 0 ? name(in.mName) : "mesh" + std::to_string(model_.meshes.size());
     // Assimp names the primitives of glTF mesh NAME "NAME-0", "NAME-1", ...
     if (parts.size() > 1 && m.name.size() > 2 && m.name.ends_with("-0")) m.name.resize(m.name.size() - 2);
     const Eigen::Index nv = in.mNumVertices;
@@ -218,6 +284,7 @@ class Loader {
     if (faces.empty()) return;
     m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
     for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
+    repair_normals(m);
     m.material = materials.front();
     if (std::any_of(materials.begin(), materials.end(), [&](int x) { return x != m.material; }))
       m.face_materials =
@@ -225,6 +292,19 @@ class Loader {
     if (in.HasBones() ? add_skin(in, m) : mirrored_[static_cast<std::size_t>(node)]) reflect(m);
     m.node = remap_[static_cast<std::size_t>(node)];
     model_.meshes.push_back(std::move(m));
+  }
+
+  /// A reader's NaN or infinite normals (Q3D's earth has a few) would make every posed normal, and
+  /// so every output, invalid: they become the area-weighted normals of their faces.
+  void repair_normals(mesh::Mesh& m) {
+    const Eigen::Array<bool, Eigen::Dynamic, 1> broken = (!m.normals.array().isFinite()).rowwise().any();
+    const auto count = broken.count();
+    if (count == 0) return;
+    const mesh::RowMatrixXf<3> faces = mesh::area_weighted_normals(m.positions, m.faces);
+    for (Eigen::Index v = 0; v < m.normals.rows(); ++v)
+      if (broken(v)) m.normals.row(v) = faces.row(v);
+    warn("mesh '" + m.name + "': " + std::to_string(count) + " of " + std::to_string(m.normals.rows()) +
+         " normals were NaN or infinite; replaced by the area-weighted normals of their faces");
   }
 
   /// Returns whether the mesh's data must be reflected (see kMirror).
@@ -237,23 +317,24 @@ class Loader {
     int reflected = -1;  // unknown until the first bone
     for (unsigned b = 0; b < in.mNumBones; ++b) {
       const aiBone& bone = *in.mBones[b];
-      const auto it = by_name_.find(bone.mName.C_Str());
+      const std::string bone_name = name(bone.mName);
+      const auto it = by_name_.find(bone_name);
       if (it == by_name_.end())
-        throw FileError("mesh '" + m.name + "' is bound to bone '" + bone.mName.C_Str() + "', which is not a node");
+        throw FileError("mesh '" + m.name + "' is bound to bone '" + bone_name + "', which is not a node");
       m.skin.palette.push_back(remap_[static_cast<std::size_t>(it->second)]);
       Eigen::Matrix4d ibm = to_eigen(bone.mOffsetMatrix);
       const bool joint_mirrored = mirrored_[static_cast<std::size_t>(it->second)];
       if (joint_mirrored) ibm = kMirror * ibm;
       const int reflect_data = mirrors(ibm) ? 1 : 0;
       if (reflected >= 0 && reflect_data != reflected)
-        throw FileError("mesh '" + m.name + "' is bound to bones on both sides of a mirror (bone '" +
-                        bone.mName.C_Str() + "'); cgamesh cannot represent that");
+        throw FileError("mesh '" + m.name + "' is bound to bones on both sides of a mirror (bone '" + bone_name +
+                        "'); cgamesh cannot represent that");
       reflected = reflect_data;
       if (reflect_data != 0) ibm = ibm * kMirror;
       const Transform t = Transform::from_matrix(ibm);
       if (!t.is_uniform())
-        warn("inverse bind matrix of bone '" + std::string(bone.mName.C_Str()) + "' has non-uniform scale (" +
-             describe(t.scale) + "); its versor uses the geometric mean");
+        warn("inverse bind matrix of bone '" + bone_name + "' has non-uniform scale (" + describe(t.scale) +
+             "); its versor uses the geometric mean");
       m.skin.inverse_bind.push_back(ibm);
       m.skin.inverse_bind_versors.push_back(t.versor());
       for (unsigned w = 0; w < bone.mNumWeights; ++w) {
@@ -282,14 +363,14 @@ class Loader {
            " vertices had more than 4 influences; kept the 4 largest and renormalised");
     if (unweighted > 0)
       warn("mesh '" + m.name + "': " + std::to_string(unweighted) + " vertices had no weights; bound to bone '" +
-           std::string(in.mBones[0]->mName.C_Str()) + "'");
+           name(in.mBones[0]->mName) + "'");
     return reflected == 1;
   }
 
   void add_material(const aiMaterial& in) {
     mesh::Material m;
-    aiString name;
-    if (in.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
+    aiString material;
+    if (in.Get(AI_MATKEY_NAME, material) == AI_SUCCESS) m.name = name(material);
     aiColor4D c;
     if (in.Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS || in.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
       m.base_color = Eigen::Vector4f(c.r, c.g, c.b, c.a);
@@ -388,14 +469,15 @@ class Loader {
 
   void add_clip(const aiAnimation& in, unsigned index) {
     anim::Clip clip;
-    clip.name = in.mName.length > 0 ? in.mName.C_Str() : "clip" + std::to_string(index);
+    clip.name = in.mName.length > 0 ? name(in.mName) : "clip" + std::to_string(index);
     const double tps = in.mTicksPerSecond > 0 ? in.mTicksPerSecond : options_.default_ticks_per_second;
     clip.duration = in.mDuration / tps;
     for (unsigned c = 0; c < in.mNumChannels; ++c) {
       const aiNodeAnim& na = *in.mChannels[c];
-      const auto it = by_name_.find(na.mNodeName.C_Str());
+      const std::string node = name(na.mNodeName);
+      const auto it = by_name_.find(node);
       if (it == by_name_.end()) {
-        warn("clip '" + clip.name + "' animates unknown node '" + na.mNodeName.C_Str() + "'; ignored");
+        warn("clip '" + clip.name + "' animates unknown node '" + node + "'; ignored");
         continue;
       }
       const int joint = remap_[static_cast<std::size_t>(it->second)];
@@ -440,6 +522,17 @@ class Loader {
 
   void warn(std::string message) { model_.warnings.push_back(std::move(message)); }
 
+  /// A name of the file as UTF-8 (utf8_name); the first one converted is said.
+  std::string name(const aiString& s) {
+    bool converted = false;
+    std::string out = utf8_name(s.C_Str(), converted);
+    if (converted && !said_latin1_) {
+      said_latin1_ = true;
+      warn("names that are not UTF-8 (the first: '" + out + "') are read as Latin-1");
+    }
+    return out;
+  }
+
   static constexpr std::uintmax_t kMaxTextureBytes = 256u << 20;
 
   const aiScene& scene_;
@@ -453,6 +546,7 @@ class Loader {
   std::vector<bool> mirrored_;    ///< per editable node: m_i, parity of mirrors down to it (see kMirror)
   std::vector<bool> own_mirror_;  ///< per editable node: its own matrix mirrors
   anim::RiggedModel model_;
+  bool said_latin1_ = false;
 };
 
 }  // namespace
@@ -488,6 +582,7 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
     else
       for (mesh::Mesh& m : model.meshes) mesh::join_identical_vertices(m);
     check_scale_keys(model);
+    start_clips_at_zero(model);
     loader.conjugate_keys(model);
     return model;
   } catch (const FileError&) {

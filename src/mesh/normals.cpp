@@ -10,6 +10,19 @@
 
 namespace cgamesh::mesh {
 
+RowMatrixXf<3> area_weighted_normals(const RowMatrixXf<3>& positions, const Faces& faces) {
+  RowMatrixXf<3> n = RowMatrixXf<3>::Zero(positions.rows(), 3);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    const Eigen::Vector3f a = positions.row(faces(f, 0)), b = positions.row(faces(f, 1)),
+                          c = positions.row(faces(f, 2));
+    const Eigen::RowVector3f fn = (b - a).cross(c - a).transpose();
+    for (int k = 0; k < 3; ++k) n.row(faces(f, k)) += fn;
+  }
+  for (Eigen::Index v = 0; v < n.rows(); ++v)
+    if (n.row(v).norm() > 0) n.row(v).normalize();
+  return n;
+}
+
 RowMatrixXf<3> reshaped_normals(const Mesh& m, const RowMatrixXf<3>& positions) {
   const Eigen::Index n = m.vertex_count();
   if (positions.rows() != n)

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/surgery/pieces.hpp"
 
 namespace cgamesh::render {
@@ -70,20 +71,6 @@ void for_each_influence(const mesh::Mesh& m, Eigen::Index v, F&& f) {
   }
   for (int k = 0; k < 4; ++k)
     if (m.skin.weights(v, k) > 0) f(m.skin.palette[m.skin.joints(v, k)], m.skin.weights(v, k));
-}
-
-/// Area-weighted vertex normals of a placed mesh (the normal colour of a mesh without normals).
-RowMatrixXf<3> face_normals_at_vertices(const RowMatrixXf<3>& x,
-                                        const mesh::Faces& faces) {
-  RowMatrixXf<3> n = RowMatrixXf<3>::Zero(x.rows(), 3);
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const Eigen::Vector3f a = x.row(faces(f, 0)), b = x.row(faces(f, 1)), c = x.row(faces(f, 2));
-    const Eigen::RowVector3f fn = (b - a).cross(c - a).transpose();
-    for (int k = 0; k < 3; ++k) n.row(faces(f, k)) += fn;
-  }
-  for (Eigen::Index v = 0; v < n.rows(); ++v)
-    if (n.row(v).norm() > 0) n.row(v).normalize();
-  return n;
 }
 
 void add_skeleton(Scene& scene, const anim::RiggedModel& model, const std::vector<Eigen::Matrix4d>& globals) {
@@ -229,7 +216,7 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
         case ColorMode::height:  // after every mesh is placed
           break;
         case ColorMode::normal: {
-          const RowMatrixXf<3> n = d.normals.rows() > 0 ? d.normals : face_normals_at_vertices(d.positions, d.faces);
+          const RowMatrixXf<3> n = d.normals.rows() > 0 ? d.normals : mesh::area_weighted_normals(d.positions, d.faces);
           d.colors = (n.array() + 1.0f) / 2.0f;
           break;
         }

@@ -188,18 +188,21 @@ TEST(CliErrors, UnknownClipsAndJointsListTheValidNames) {
 
 // ---- item 10: every bad value answered --------------------------------------------------------
 
-// A name with a byte that is not UTF-8 (assimp passes it on): JSON shows U+FFFD, exit 0.
-TEST(CliJson, NonUtf8NamesAreReplacedInJson) {
+// A name with a byte that is not UTF-8 (assimp passes it on) is read as Latin-1, with a warning;
+// other text that is not UTF-8 (the file's path) shows U+FFFD in JSON. Exit 0.
+TEST(CliJson, NonUtf8NamesAreReadAsLatin1AndPathsReplacedInJson) {
   TempDir dir;
   std::string bytes = read_file(cesium());
   const std::size_t at = bytes.find("Cesium_Man");
   ASSERT_NE(at, std::string::npos);
   bytes[at + 6] = static_cast<char>(0x8b);
-  const fs::path bad = dir / "bad.glb";
+  const fs::path bad = dir / "bad\x8b.glb";
   { std::ofstream(bad, std::ios::binary) << bytes; }
   const Result r = run_ok(dir, {"info", bad.string(), "--json"});
   const Json j = parse_json(r);
-  EXPECT_EQ(j["meshes"][0]["name"], "Cesium\xEF\xBF\xBDMan") << r;
+  EXPECT_EQ(j["meshes"][0]["name"], "Cesium\xC2\x8BMan") << r;
+  EXPECT_TRUE(contains(j["file"].get<std::string>(), "bad\xEF\xBF\xBD.glb")) << r;
+  EXPECT_TRUE(contains(j["warnings"].dump(), "are read as Latin-1")) << r;
   const Result p = run_ok(dir, {"pose", bad.string(), "-o", (dir / "p.obj").string(), "--json"});
   EXPECT_TRUE(parse_json(p).is_object()) << p;
 }

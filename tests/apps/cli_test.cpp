@@ -380,6 +380,15 @@ TEST(CliErrors, HangingOrOverdeclaredFilesAreBadInputAndLoadingHasATimeBudget) {
         << "MD5Version 10\nnumJoints 1\njoints {\n\"root\" -1 ( 0 0 0 ) ( 0 0 0 )\n";
   }
   expect_failure(f, {"info", (f.inputs / "open.md5mesh").string()}, 3, "never closes", f.outputs / "none");
+  // OFF counts, on the keyword's line or the next (assimp-testmodels' invalid/OutOfMemory.off
+  // took minutes before); a true header, after a comment, loads.
+  { std::ofstream(f.inputs / "big.off") << "OFF\n# a comment\n353535235358 6 0\n-0.5 -0.5 0.5\n"; }
+  expect_failure(f, {"info", (f.inputs / "big.off").string()}, 3, "line 3 declares 353535235358 vertices",
+                 f.outputs / "none");
+  { std::ofstream(f.inputs / "faces.off") << "COFF 3 99999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"; }
+  expect_failure(f, {"info", (f.inputs / "faces.off").string()}, 3, "line 1 declares 99999 faces", f.outputs / "none");
+  { std::ofstream(f.inputs / "true.off") << "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"; }
+  EXPECT_EQ(run_cli({"info", (f.inputs / "true.off").string()}, f.inputs.path()).code, 0);
   const fs::path out = f.outputs / "out.glb";
   expect_failure(f, {"--load-timeout", "0.000001", "convert", cesium().string(), "-o", out.string()}, 3,
                  "took longer than", out);

@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "cgamesh/anim/pose.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/gltf_writer.hpp"
 
 #include "anim/model_fixtures.hpp"
 #include "support/gltf_edit.hpp"
@@ -185,4 +187,74 @@ TEST(ModelLoader, ZeroScaleKeyAndDirectoryAreNamed) {
   }
 }
 
+// Keys before t = 0 (LightWave scenes have them; glTF forbids them) start the clip at 0 with the
+// pose it has there: CesiumMan's clip moved 0.5 s earlier plays, from 0, as the original from 0.5.
+TEST(ModelLoader, KeysBeforeZeroStartTheClipAtZero) {
+  cgamesh_test::TempDir dir;
+  constexpr double kShift = 0.5;
+  tinygltf::Model m = cgamesh_test::read_glb(cgamesh_test::demo_model());
+  std::set<int> inputs;
+  for (const tinygltf::AnimationSampler& s : m.animations[0].samplers) inputs.insert(s.input);
+  for (const int i : inputs) {
+    tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(i)];
+    const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    float* t = reinterpret_cast<float*>(m.buffers[static_cast<std::size_t>(v.buffer)].data.data() + v.byteOffset +
+                                        a.byteOffset);
+    for (std::size_t k = 0; k < a.count; ++k) t[k] -= static_cast<float>(kShift);
+    for (double& x : a.minValues) x -= kShift;
+    for (double& x : a.maxValues) x -= kShift;
+  }
+  const anim::RiggedModel original = io::load_model(cgamesh_test::demo_model());
+  const anim::RiggedModel early = io::load_model(cgamesh_test::write_glb(std::move(m), dir / "early.glb"));
+  bool warned = false;
+  for (const std::string& w : early.warnings) warned = warned || w.find("keys before t = 0") != std::string::npos;
+  EXPECT_TRUE(warned);
+  for (const anim::Channel& ch : early.clips[0].channels) {
+    ASSERT_FALSE(ch.times.empty());
+    EXPECT_EQ(ch.times.front(), 0.0);
+    EXPECT_EQ(ch.values.size(), ch.times.size() * static_cast<std::size_t>(ch.components()));
+  }
+  for (const double t : {0.0, 0.013, 0.25, 1.0}) {
+    const anim::Pose a = anim::sample(early.skeleton, early.clips[0], t, anim::BlendMode::format);
+    const anim::Pose b = anim::sample(original.skeleton, original.clips[0], t + kShift, anim::BlendMode::format);
+    for (std::size_t j = 0; j < a.local.size(); ++j) {
+      EXPECT_LT((a.local[j].translation - b.local[j].translation).norm(), 1e-5) << "t " << t << " joint " << j;
+      EXPECT_GT(std::abs(a.local[j].rotation.dot(b.local[j].rotation)), 1 - 1e-6) << "t " << t << " joint " << j;
+      EXPECT_LT((a.local[j].scale - b.local[j].scale).norm(), 1e-5) << "t " << t << " joint " << j;
+    }
+  }
+  EXPECT_NO_THROW((void)io::encode_gltf(early, dir / "written.glb"));
+}
+
+// What Assimp's readers hand over for files from elsewhere: an OBJ's Latin-1 material names are
+// read as such (and can be written: glTF needs UTF-8); RAW's reader leaves a child node empty,
+// which is skipped, not followed; Q3D's earth has NaN normals, which are made from its faces.
+TEST(ModelLoader, LatinOneNamesAnEmptyChildNodeAndNanNormals) {
+  const fs::path obj = cgamesh_test::assimp_model("OBJ/regr01.obj");
+  const fs::path raw = cgamesh_test::assimp_model("RAW/WithColor.raw");
+  if (!fs::exists(obj) || !fs::exists(raw)) GTEST_SKIP() << "assimp-testmodels not installed";
+  const auto said = [](const anim::RiggedModel& m, const std::string& what) {
+    for (const std::string& w : m.warnings)
+      if (w.find(what) != std::string::npos) return true;
+    return false;
+  };
+  cgamesh_test::TempDir dir;
+  const anim::RiggedModel regr = io::load_model(obj);
+  bool danish = false;
+  for (const mesh::Material& m : regr.materials) danish = danish || m.name == "Terraind\u00e6k";
+  EXPECT_TRUE(danish);
+  EXPECT_TRUE(said(regr, "are read as Latin-1"));
+  EXPECT_NO_THROW((void)io::encode_gltf(regr, dir / "regr01.glb"));
+
+  const anim::RiggedModel r = io::load_model(raw);
+  EXPECT_FALSE(r.meshes.empty());
+  EXPECT_TRUE(said(r, "the reader left child 1 of 2 empty; skipped"));
+
+  const anim::RiggedModel earth = io::load_model(cgamesh_test::assimp_model("Q3D/earth.q3o"));
+  for (const mesh::Mesh& m : earth.meshes) {
+    ASSERT_EQ(m.normals.rows(), m.vertex_count());
+    EXPECT_TRUE(m.normals.allFinite()) << m.name;
+  }
+  EXPECT_TRUE(said(earth, "4 of 5139 normals were NaN or infinite"));
+}
 }  // namespace

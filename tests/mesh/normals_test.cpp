@@ -107,4 +107,18 @@ TEST(ReshapedNormals, NoNormalsGiveNoneAndDegenerateFacesKeepTheRestNormal) {
   EXPECT_EQ(mesh::reshaped_normals(cube, cube.positions).rows(), 0);
 }
 
+// A square pyramid: the apex's normal is the axis, a base corner's weighs its two triangular
+// faces and the base by their areas (twice the cross products); a vertex on no face gets zero.
+TEST(AreaWeightedNormals, EachVertexSumsItsFacesCrossProducts) {
+  mesh::RowMatrixXf<3> x(6, 3);
+  x << -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0, 0, 0, 2, 5, 5, 5;
+  mesh::Faces f(6, 3);
+  f << 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4, 0, 2, 1, 0, 3, 2;
+  const mesh::RowMatrixXf<3> n = mesh::area_weighted_normals(x, f);
+  EXPECT_LT((n.row(4) - Eigen::RowVector3f(0, 0, 1)).norm(), 1e-6f);
+  // Corner 0: faces 0 (normal (0, -4, 2)), 3 ((-4, 0, 2)), and both base triangles ((0, 0, -4) each).
+  const Eigen::RowVector3f corner = Eigen::RowVector3f(-4, -4, -4).normalized();
+  EXPECT_LT((n.row(0) - corner).norm(), 1e-6f);
+  EXPECT_EQ(n.row(5), Eigen::RowVector3f::Zero());
+}
 }  // namespace

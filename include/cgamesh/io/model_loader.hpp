@@ -19,7 +19,10 @@ struct LoadOptions {
 /// skin weight differs stay split. Each vertex keeps its number in the file where the format's
 /// numbering is known (Mesh::file_index: glTF, PLY, OBJ). Before Assimp reads it, a file of a format whose reader
 /// can hang or allocate without bound is checked (SMD sections closed, MD5 braces balanced,
-/// PLY and MD5 counts within the file's size). Skins keep the 4 largest influences
+/// PLY, OFF and MD5 counts within the file's size). What readers hand over from files made
+/// elsewhere is repaired, each with a warning: names that are not UTF-8 are read as Latin-1, a
+/// child node a reader left empty is skipped, NaN normals become their faces' normals, and keys
+/// before t = 0 are replaced by the pose at 0 (cubic-spline ones: FileError). Skins keep the 4 largest influences
 /// per vertex, renormalised to sum 1; non-uniform scales in bind data or keys are kept in the
 /// TRS data and approximated by their geometric mean in the versors. Each approximation adds a
 /// line to RiggedModel::warnings. Mirrored nodes (negative determinant, e.g. a .x root frame

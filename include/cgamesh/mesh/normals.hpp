@@ -6,6 +6,13 @@
 
 namespace cgamesh::mesh {
 
+/// Unit area-weighted vertex normals: per vertex, the normalised sum of the cross products of
+/// the faces around it (zero for a vertex that no face with area touches).
+/// @param[in] positions  #V×3 positions
+/// @param[in] faces      #F×3 vertex indices, each in [0, #V)
+/// @return #V×3 normals
+[[nodiscard]] RowMatrixXf<3> area_weighted_normals(const RowMatrixXf<3>& positions, const Faces& faces);
+
 /// Unit vertex normals of `m`'s faces at new positions. The corners at one rest position whose
 /// rest normals agree (within 1°: split only for UVs or joints) form one smoothing group and
 /// get one normal, the area-weighted mean of the new normals of the faces around the group; a
