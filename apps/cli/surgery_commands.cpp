@@ -25,11 +25,13 @@ namespace cgamesh::cli {
 namespace {
 
 /// The files of one result: a rigged glTF (skin, skeleton, clips), or for OBJ/PLY the surface
-/// as placed (the pose the tool was used in).
+/// as placed (the pose the tool was used in), with its normals skinned into that pose as
+/// surgery::place skins positions (eq. (17), `cga`).
 std::vector<io::EncodedFile> encode_result(const anim::RiggedModel& model,
-                                           const std::vector<mesh::RowMatrixXf<3>>& placed, const std::string& out) {
+                                           const std::vector<mesh::RowMatrixXf<3>>& placed, const anim::Pose& pose,
+                                           const std::string& out) {
   if (is_gltf_path(out)) return io::encode_gltf(model, out);
-  return {io::encode_mesh(model.meshes, placed, out)};
+  return {io::encode_mesh(model.meshes, placed, out, posed_frame(model, pose, anim::SkinningMode::cga).normals)};
 }
 
 double milliseconds_since(std::chrono::steady_clock::time_point start) {
@@ -158,7 +160,8 @@ struct CutCommand : SurgeryCommand {
     const surgery::ModelCut c = timed([&] { return surgery::cut(scene.model, scene.placement, pi, options); }, ms);
     std::vector<io::EncodedFile> files;
     for (std::size_t k = 0; k < 2; ++k)
-      for (io::EncodedFile& f : encode_result(c.pieces[k], c.placed[k], outputs[k])) files.push_back(std::move(f));
+      for (io::EncodedFile& f : encode_result(c.pieces[k], c.placed[k], scene.pose.pose, outputs[k]))
+        files.push_back(std::move(f));
     io::write_files_atomically(files);
     report(outputs, ms, scene,
            {{"new_vertices", c.new_vertices},
@@ -196,7 +199,7 @@ struct DrillCommand : SurgeryCommand {
         },
         ms);
     if (d.model.meshes.empty()) throw TopologyError("drill: the drill removes the whole model; nothing to write");
-    io::write_files_atomically(encode_result(d.model, d.placed, output));
+    io::write_files_atomically(encode_result(d.model, d.placed, scene.pose.pose, output));
     report(output, ms, scene,
            {{"new_vertices", d.new_vertices},
             {"intersection_points", d.intersection_points},
@@ -236,7 +239,8 @@ struct TearCommand : SurgeryCommand {
     double ms = 0;
     const surgery::ModelTear t =
         timed([&] { return surgery::tear(scene.model, scene.placement, scene.index, steps, options); }, ms);
-    io::write_files_atomically(encode_result(t.model, placed_with(scene.placement, t.mesh, t.placed), output));
+    io::write_files_atomically(
+        encode_result(t.model, placed_with(scene.placement, t.mesh, t.placed), scene.pose.pose, output));
     Json path = Json::array();
     for (const Eigen::Vector3d& x : t.path) path.push_back({x.x(), x.y(), x.z()});
     report(output, ms, scene,

@@ -299,4 +299,40 @@ TEST(CliTear, FailuresWriteNothing) {
                    4, "changes nothing", out);
 }
 
+// OBJ outputs of cut, drill and tear carry normals, skinned into the pose the tool was placed in
+// as `pose` skins them: where a result vertex is an untouched one, its normal is pose's.
+TEST(CliSurgery, ObjOutputsCarryTheNormalsOfThePlacedSurface) {
+  TempDir dir;
+  const std::string model = demo_model().string();
+  run_ok(dir, {"pose", model, "--time", "1.2", "-o", (dir / "p.obj").string()});
+  const Points px = read_obj_vertices(dir / "p.obj"), pn = read_obj_rows(dir / "p.obj", "vn");
+  ASSERT_EQ(pn.rows(), px.rows());
+  const auto [tip, base] = torso_drill(1.2);
+  std::vector<std::string> tear{"tear", model, "--time", "1.2", "-o", (dir / "t.obj").string()};
+  for (const std::string& a : torso_stroke(1.2)) tear.push_back(a);
+  run_ok(dir, {"cut", model, "--time", "1.2", "--plane", "0,2,0,1.6", "--cap", "-o", (dir / "a.obj").string(),
+               (dir / "b.obj").string()});
+  run_ok(dir, {"drill", model, "--time", "1.2", "--tip", tip, "--base", base, "--radius", "0.05", "-o",
+               (dir / "d.obj").string()});
+  run_ok(dir, tear);
+  for (const char* out : {"a.obj", "b.obj", "d.obj", "t.obj"}) {
+    SCOPED_TRACE(out);
+    const Points x = read_obj_vertices(dir / out), n = read_obj_rows(dir / out, "vn");
+    ASSERT_EQ(n.rows(), x.rows());
+    Eigen::Index same = 0, untouched = 0;
+    for (Eigen::Index v = 0; v < x.rows(); ++v) {
+      EXPECT_NEAR(n.row(v).norm(), 1.0, 1e-5) << "vertex " << v;
+      bool found = false, agrees = false;
+      for (Eigen::Index w = 0; w < px.rows(); ++w) {
+        if ((px.row(w) - x.row(v)).norm() > 1e-7) continue;
+        found = true;
+        agrees = agrees || (pn.row(w) - n.row(v)).norm() < 1e-5;
+      }
+      untouched += found ? 1 : 0;
+      same += agrees ? 1 : 0;
+    }
+    EXPECT_GT(untouched, x.rows() / 2);
+    EXPECT_EQ(same, untouched);
+  }
+}
 }  // namespace

@@ -93,23 +93,27 @@ inline Result run_cli(const std::vector<std::string>& args, const fs::path& err_
 
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-/// The `v x y z` lines of an OBJ file, in order.
-inline Points read_obj_vertices(const fs::path& p) {
+/// The `KEY x y z` lines of an OBJ file (KEY "v" or "vn"), in order.
+inline Points read_obj_rows(const fs::path& p, const std::string& key) {
   std::ifstream in(p);
   std::vector<double> xyz;
   std::string line;
+  const std::string start = key + " ";
   while (std::getline(in, line)) {
-    if (line.rfind("v ", 0) != 0) continue;
-    std::istringstream s(line.substr(2));
+    if (line.rfind(start, 0) != 0) continue;
+    std::istringstream s(line.substr(start.size()));
     double x = 0, y = 0, z = 0;
     s >> x >> y >> z;
-    EXPECT_TRUE(static_cast<bool>(s)) << p << ": bad vertex line '" << line << "'";
+    EXPECT_TRUE(static_cast<bool>(s)) << p << ": bad " << key << " line '" << line << "'";
     xyz.insert(xyz.end(), {x, y, z});
   }
   Points out(static_cast<Eigen::Index>(xyz.size() / 3), 3);
   std::copy(xyz.begin(), xyz.end(), out.data());
   return out;
 }
+
+/// The `v x y z` lines of an OBJ file, in order.
+inline Points read_obj_vertices(const fs::path& p) { return read_obj_rows(p, "v"); }
 
 /// The vertices of a binary little-endian PLY with float x y z, and maybe more float properties
 /// after them (nx ny nz: the layout cgamesh writes).
