@@ -47,9 +47,8 @@ struct DeformCommand {
       const auto more = io::write_gltf(bound.deformed_model(m, deformed), output);
       warnings.insert(warnings.end(), more.begin(), more.end());
     } else {
-      std::vector<mesh::RowMatrixXf<3>> positions = deform::rest_positions(m, bound.space());
-      positions[static_cast<std::size_t>(bound.mesh_index())] = deformed;
-      const io::EncodedFile file = io::encode_mesh(m.meshes, positions, output);
+      const deform::Surfaces surfaces = bound.deformed_surfaces(m, deformed);
+      const io::EncodedFile file = io::encode_mesh(m.meshes, surfaces.positions, output, surfaces.normals);
       io::write_files_atomically(std::span<const io::EncodedFile>(&file, 1));
     }
 

@@ -166,9 +166,8 @@ void add_deform(py::module_& m) {
             if (ext == ".glb" || ext == ".gltf") {
               io::write_gltf(d.bound->deformed_model(d.model->model, deformed), path);
             } else {
-              std::vector<mesh::RowMatrixXf<3>> all = deform::rest_positions(d.model->model, d.bound->space());
-              all[static_cast<std::size_t>(d.bound->mesh_index())] = deformed;
-              io::write_mesh(d.model->model.meshes, all, path);
+              const deform::Surfaces surfaces = d.bound->deformed_surfaces(d.model->model, deformed);
+              io::write_mesh(d.model->model.meshes, surfaces.positions, path, surfaces.normals);
             }
           },
           py::arg("path"), py::arg("positions") = py::none(),

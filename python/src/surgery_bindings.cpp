@@ -5,6 +5,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
+#include "cgamesh/io/text_values.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
 #include "cgamesh/surgery/live_model.hpp"
@@ -21,6 +22,7 @@ struct SurgeryResult {
   std::vector<int> source_mesh;                          ///< per mesh: the input mesh
   std::vector<std::vector<mesh::VertexSource>> origins;  ///< per mesh, per vertex
   std::vector<mesh::RowMatrixXf<3>> placed;              ///< per mesh, #V×3 placed positions
+  anim::Pose pose;                                       ///< the pose the tool was placed against
   py::dict stats;
 };
 
@@ -167,10 +169,12 @@ void add_surgery(py::module_& m) {
             if (lower == ".glb" || lower == ".gltf")
               io::write_gltf(r.model->model, path);
             else
-              io::write_mesh(r.model->model.meshes, r.placed, path);
+              io::write_mesh(r.model->model.meshes, r.placed, path,
+                             io::posed_frame(r.model->model, r.pose, anim::SkinningMode::cga).normals);
           },
           py::arg("path"),
-          "Writes the result as the CLI does: .glb/.gltf rigged, .obj/.ply the surface as placed. Atomic.");
+          "Writes the result as the CLI does: .glb/.gltf rigged, .obj/.ply the surface as placed, with its normals "
+          "skinned into that pose. Atomic.");
 
   m.def(
       "cut",
@@ -194,6 +198,7 @@ void add_surgery(py::module_& m) {
           out[k].source_mesh = std::move(c.source_mesh[k]);
           out[k].origins = std::move(c.origins[k]);
           out[k].placed = std::move(c.placed[k]);
+          out[k].pose = p;
           out[k].stats = stats;
         }
         return py::make_tuple(std::move(out[0]), std::move(out[1]));
@@ -228,6 +233,7 @@ void add_surgery(py::module_& m) {
         r.origins[static_cast<std::size_t>(t.mesh)] = std::move(t.origins);
         r.placed = std::move(placement.positions);
         r.placed[static_cast<std::size_t>(t.mesh)] = std::move(t.placed);
+        r.pose = p;
         py::array_t<std::int8_t> side(static_cast<py::ssize_t>(t.side.size()));
         std::copy(t.side.begin(), t.side.end(), side.mutable_data());
         r.stats = tear_stats(t);
@@ -266,6 +272,7 @@ void add_surgery(py::module_& m) {
         r.source_mesh = std::move(d.source_mesh);
         r.origins = std::move(d.origins);
         r.placed = std::move(d.placed);
+        r.pose = p;
         r.stats = drill_stats(d);
         r.model = make_model(std::move(d.model));
         return r;

@@ -26,6 +26,9 @@ def test_deform_equals_cli(tmp_path, cesium, name):
     d.save(str(tmp_path / "py.glb"))
     run_cli("deform", CESIUM, "--spec", SPECS / f"{name}.json", "-o", tmp_path / "cli.glb")
     assert (tmp_path / "py.glb").read_bytes() == (tmp_path / "cli.glb").read_bytes()
+    d.save(str(tmp_path / "py.obj"))  # positions and normals, as the CLI writes them
+    assert (tmp_path / "py.obj").read_bytes() == (tmp_path / "cli.obj").read_bytes()
+    assert b"\nvn " in (tmp_path / "py.obj").read_bytes()
 
 
 def test_deformer_keys_as_multivectors(cesium):

@@ -49,6 +49,7 @@ def test_cut_equals_cli(tmp_path, cesium):
             tmp_path / "cb.obj")
     for mine, cli in [("a.glb", "ca.glb"), ("b.glb", "cb.glb"), ("a.obj", "ca.obj"), ("b.obj", "cb.obj")]:
         assert (tmp_path / mine).read_bytes() == (tmp_path / cli).read_bytes(), mine
+    assert b"\nvn " in (tmp_path / "a.obj").read_bytes()  # normals skinned into the pose, as the CLI's
     for key in ["new_vertices", "intersection_points", "faces_in", "faces_split", "cap_triangles"]:
         assert a.stats[key] == summary[key], key
     assert list(a.stats["faces_out"]) == summary["faces_out"]

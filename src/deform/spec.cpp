@@ -539,18 +539,28 @@ DeformSpace default_space(const anim::RiggedModel& model) noexcept {
   return rigged ? DeformSpace::world : DeformSpace::mesh;
 }
 
-std::vector<mesh::RowMatrixXf<3>> rest_positions(const anim::RiggedModel& model, DeformSpace space) {
-  std::vector<mesh::RowMatrixXf<3>> out;
+Surfaces rest_surfaces(const anim::RiggedModel& model, DeformSpace space) {
+  Surfaces out;
   if (space == DeformSpace::mesh) {
-    for (const mesh::Mesh& m : model.meshes) out.push_back(m.positions);
+    for (const mesh::Mesh& m : model.meshes) {
+      out.positions.push_back(m.positions);
+      out.normals.push_back(m.normals);
+    }
     return out;
   }
   const anim::Pose bind = anim::rest_pose(model.skeleton);
   const auto gv = anim::global_versors(model.skeleton, bind);
   const auto gm = anim::global_matrices(model.skeleton, bind);
-  for (const mesh::Mesh& m : model.meshes)
-    out.push_back(anim::skin(m, anim::make_palette(m, gv, gm, anim::SkinningMode::matrix)));
+  for (const mesh::Mesh& m : model.meshes) {
+    mesh::RowMatrixXf<3>& x = out.positions.emplace_back();
+    mesh::RowMatrixXf<3>& n = out.normals.emplace_back();
+    anim::skin_into(m, anim::make_palette(m, gv, gm, anim::SkinningMode::matrix), x, &n);
+  }
   return out;
+}
+
+std::vector<mesh::RowMatrixXf<3>> rest_positions(const anim::RiggedModel& model, DeformSpace space) {
+  return rest_surfaces(model, space).positions;
 }
 
 BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& model, const SpecBindOptions& options)
@@ -917,6 +927,12 @@ anim::RiggedModel BoundDeformer::deformed_model(const anim::RiggedModel& model,
   const mesh::RowMatrixXf<3> rest = to_mesh_space(positions);
   m.normals = mesh::reshaped_normals(m, rest);
   m.positions = rest;
+  return out;
+}
+
+Surfaces BoundDeformer::deformed_surfaces(const anim::RiggedModel& model, const mesh::RowMatrixXf<3>& positions) const {
+  Surfaces out = rest_surfaces(deformed_model(model, positions), space_);
+  out.positions[static_cast<std::size_t>(mesh_)] = positions;  // not through to_mesh_space and back
   return out;
 }
 

@@ -360,4 +360,24 @@ TEST(CliDeform, FreePartsMoveWithTheNearestHandleOrStay) {
   }
 }
 
+// An OBJ of a deformation carries normals: those of the rigged .glb result, posed in its bind
+// pose (the bent mesh's reshaped normals, in world space like its positions).
+TEST(CliDeform, ObjNormalsAreThoseOfTheRiggedResultAtRest) {
+  TempDir dir;
+  const std::string model = cgamesh_test::demo_model().string(), s = spec("cesiumman_bend.json").string();
+  const fs::path obj = dir.path() / "bent.obj", glb = dir.path() / "bent.glb", posed = dir.path() / "posed.obj";
+  ASSERT_EQ(run_cli({"deform", model, "--spec", s, "-o", obj.string()}, dir.path()).code, 0);
+  ASSERT_EQ(run_cli({"deform", model, "--spec", s, "-o", glb.string()}, dir.path()).code, 0);
+  ASSERT_EQ(run_cli({"pose", glb.string(), "--bind-pose", "-o", posed.string()}, dir.path()).code, 0);
+  const Points x = read_obj_vertices(obj), n = read_obj_rows(obj, "vn");
+  const Points px = read_obj_vertices(posed), pn = read_obj_rows(posed, "vn");
+  ASSERT_EQ(n.rows(), x.rows());
+  ASSERT_EQ(px.rows(), x.rows());
+  EXPECT_LT((x - px).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LT((n - pn).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LT((n.rowwise().norm().array() - 1).abs().maxCoeff(), 1e-5);
+  const Points rest =
+      read_obj_rows((run_ok(dir, {"pose", model, "--bind-pose", "-o", (dir / "r.obj").string()}), dir / "r.obj"), "vn");
+  EXPECT_GT((n - rest).cwiseAbs().maxCoeff(), 0.1) << "the bend turns some normals";
+}
 }  // namespace

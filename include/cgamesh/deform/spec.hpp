@@ -150,8 +150,19 @@ struct DeformSpec {
 /// (boxes from `info` then select what the user sees), mesh otherwise.
 [[nodiscard]] DeformSpace default_space(const anim::RiggedModel& model) noexcept;
 
-/// Rest positions of every mesh of `model` in `space` (world: the bind pose, matrix skinning,
-/// eq. 16).
+/// Every mesh of a model as an OBJ or PLY holds it: positions and unit normals, per mesh.
+struct Surfaces {
+  std::vector<mesh::RowMatrixXf<3>> positions;  ///< per mesh, #V×3
+  std::vector<mesh::RowMatrixXf<3>> normals;    ///< per mesh, #V×3, or 0 rows for a mesh without normals
+};
+
+/// Every mesh of `model` at rest in `space`: in mesh space its own positions and normals; in
+/// world space the bind pose (matrix skinning, eq. 16; normals by each vertex's cofactor, as
+/// anim::skin_normals()).
+/// @throws InvalidInputError as anim::make_palette().
+[[nodiscard]] Surfaces rest_surfaces(const anim::RiggedModel& model, DeformSpace space);
+
+/// rest_surfaces(model, space).positions.
 /// @throws InvalidInputError as anim::make_palette().
 [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> rest_positions(const anim::RiggedModel& model, DeformSpace space);
 
@@ -249,6 +260,13 @@ class BoundDeformer {
   /// @throws InvalidInputError when the model does not have the bound mesh's vertex count.
   [[nodiscard]] anim::RiggedModel deformed_model(const anim::RiggedModel& model,
                                                  const mesh::RowMatrixXf<3>& positions) const;
+
+  /// What an OBJ or PLY of the result holds: every mesh of deformed_model(model, positions) at
+  /// rest in space() (rest_surfaces()), the bound mesh exactly at `positions`.
+  /// @param[in] model      the model bound (same meshes)
+  /// @param[in] positions  #V×3 in space()
+  /// @throws InvalidInputError as deformed_model().
+  [[nodiscard]] Surfaces deformed_surfaces(const anim::RiggedModel& model, const mesh::RowMatrixXf<3>& positions) const;
 
  private:
   void bind_ffd(const DeformSpec& spec, const SpecBindOptions& options);
