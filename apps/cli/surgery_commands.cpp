@@ -16,6 +16,7 @@
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
+#include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/surface_index.hpp"
 #include "cgamesh/surgery/tear.hpp"
 
@@ -25,13 +26,12 @@ namespace cgamesh::cli {
 namespace {
 
 /// The files of one result: a rigged glTF (skin, skeleton, clips), or for OBJ/PLY the surface
-/// as placed (the pose the tool was used in), with its normals skinned into that pose as
-/// surgery::place skins positions (eq. (17), `cga`).
+/// as placed (the pose the tool was used in), with its normals (surgery::placed_normals).
 std::vector<io::EncodedFile> encode_result(const anim::RiggedModel& model,
                                            const std::vector<mesh::RowMatrixXf<3>>& placed, const anim::Pose& pose,
                                            const std::string& out) {
   if (is_gltf_path(out)) return io::encode_gltf(model, out);
-  return {io::encode_mesh(model.meshes, placed, out, posed_frame(model, pose, anim::SkinningMode::cga).normals)};
+  return {io::encode_mesh(model.meshes, placed, out, surgery::placed_normals(model, pose))};
 }
 
 double milliseconds_since(std::chrono::steady_clock::time_point start) {

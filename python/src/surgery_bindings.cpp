@@ -5,10 +5,10 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
-#include "cgamesh/io/text_values.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
 #include "cgamesh/surgery/live_model.hpp"
+#include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/surgery/tear.hpp"
 
 #include "bindings.hpp"
@@ -169,8 +169,7 @@ void add_surgery(py::module_& m) {
             if (lower == ".glb" || lower == ".gltf")
               io::write_gltf(r.model->model, path);
             else
-              io::write_mesh(r.model->model.meshes, r.placed, path,
-                             io::posed_frame(r.model->model, r.pose, anim::SkinningMode::cga).normals);
+              io::write_mesh(r.model->model.meshes, r.placed, path, surgery::placed_normals(r.model->model, r.pose));
           },
           py::arg("path"),
           "Writes the result as the CLI does: .glb/.gltf rigged, .obj/.ply the surface as placed, with its normals "

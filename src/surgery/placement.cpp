@@ -2,14 +2,33 @@
 
 namespace cgamesh::surgery {
 
-Placement place(const anim::RiggedModel& model, const anim::Pose& pose) {
+namespace {
+
+/// Per mesh of `model`, its `cga` palette in `pose` (eq. (17)'s maps).
+std::vector<anim::SkinningPalette> palettes(const anim::RiggedModel& model, const anim::Pose& pose) {
   const auto gv = anim::global_versors(model.skeleton, pose);
   const auto gm = anim::global_matrices(model.skeleton, pose);
+  std::vector<anim::SkinningPalette> out;
+  for (const mesh::Mesh& m : model.meshes) out.push_back(anim::make_palette(m, gv, gm, anim::SkinningMode::cga));
+  return out;
+}
+
+}  // namespace
+
+Placement place(const anim::RiggedModel& model, const anim::Pose& pose) {
   Placement out;
-  for (const mesh::Mesh& m : model.meshes) {
-    out.palettes.push_back(anim::make_palette(m, gv, gm, anim::SkinningMode::cga));
-    out.positions.push_back(anim::skin(m, out.palettes.back()));
-  }
+  out.palettes = palettes(model, pose);
+  for (std::size_t i = 0; i < model.meshes.size(); ++i)
+    out.positions.push_back(anim::skin(model.meshes[i], out.palettes[i]));
+  return out;
+}
+
+std::vector<mesh::RowMatrixXf<3>> placed_normals(const anim::RiggedModel& model, const anim::Pose& pose) {
+  const std::vector<anim::SkinningPalette> p = palettes(model, pose);
+  std::vector<mesh::RowMatrixXf<3>> out;
+  for (std::size_t i = 0; i < model.meshes.size(); ++i)
+    out.push_back(model.meshes[i].normals.rows() > 0 ? anim::skin_normals(model.meshes[i], p[i])
+                                                     : mesh::RowMatrixXf<3>(0, 3));
   return out;
 }
 

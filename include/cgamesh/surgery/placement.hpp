@@ -44,4 +44,10 @@ struct Placement {
 /// @throws InvalidInputError when the pose does not fit the skeleton.
 [[nodiscard]] Placement place(const anim::RiggedModel& model, const anim::Pose& pose);
 
+/// The normals of place()'s surface: every mesh's normals skinned in `pose` with the same `cga`
+/// palettes (anim::skin_normals()), e.g. for an OBJ or PLY of a surgery result as placed.
+/// @return per mesh, #V×3 unit normals, or 0 rows for a mesh without normals
+/// @throws InvalidInputError when the pose does not fit the skeleton.
+[[nodiscard]] std::vector<mesh::RowMatrixXf<3>> placed_normals(const anim::RiggedModel& model, const anim::Pose& pose);
+
 }  // namespace cgamesh::surgery
