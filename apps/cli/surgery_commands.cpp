@@ -209,11 +209,16 @@ struct DrillCommand : SurgeryCommand {
             {"faces_affected", d.faces_affected},
             {"refinements", d.refinements},
             {"rims", d.rims},
+            {"walls", d.walls},
+            {"open_rims", d.open_rims},
             {"wall_triangles", d.wall_triangles}},
            "drill " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(d.intersection_points) +
                " intersection points, " + std::to_string(d.rims) + " rims, " + std::to_string(d.refinements) +
                " refinements, " + std::to_string(d.faces_in) + " -> " + std::to_string(d.faces_out) + " faces" +
-               (options.wall ? ", " + std::to_string(d.wall_triangles) + " wall triangles" : "") + "\n  -> " + output,
+               (options.wall ? ", " + std::to_string(d.walls) + " walls (" + std::to_string(d.wall_triangles) +
+                                   " triangles), " + std::to_string(d.open_rims) + " rims left open"
+                             : "") +
+               "\n  -> " + output,
            d.warnings);
   }
 };

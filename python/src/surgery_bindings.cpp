@@ -123,6 +123,8 @@ py::dict drill_stats(const surgery::DrillStats& r) {
   d["faces_affected"] = r.faces_affected;
   d["refinements"] = r.refinements;
   d["rims"] = r.rims;
+  d["walls"] = r.walls;
+  d["open_rims"] = r.open_rims;
   d["wall_triangles"] = r.wall_triangles;
   d["warnings"] = r.warnings;
   return d;

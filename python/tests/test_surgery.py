@@ -99,7 +99,7 @@ def test_drill_equals_cli(tmp_path, cesium):
     summary = run_cli_json("drill", CESIUM, "--time", "0.5", "--base", "0.01,0.9,0.6", "--tip", "0.01,0.9,-0.6",
                            "--radius", "0.04", "--wall", "-o", tmp_path / "c.glb")
     assert (tmp_path / "d.glb").read_bytes() == (tmp_path / "c.glb").read_bytes()
-    for key in ["new_vertices", "faces_in", "faces_out", "rims", "wall_triangles", "refinements"]:
+    for key in ["new_vertices", "faces_in", "faces_out", "rims", "walls", "open_rims", "wall_triangles", "refinements"]:
         assert d.stats[key] == summary[key], key
     check_origins(d, cesium, cesium.skin(pose))
 

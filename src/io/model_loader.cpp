@@ -52,7 +52,8 @@ Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
 // its parent, the local L_i becomes L'_i = F^c_i L_i F^m_i, so that G'_i = G_i F^m_i, proper
 // everywhere. A mesh then gets its data reflected where that keeps its maps proper: a static
 // mesh on a mirrored node, and a skinned mesh whose inverse binds B_j (made F^m_j B_j F^s) need
-// it; reflected data gets its triangles' winding reversed so that faces keep their outside.
+// it; reflected data gets its triangles' winding reversed so that faces keep their outside,
+// unless the file wound them for the mirror already (see reflect_mirrored).
 const Eigen::DiagonalMatrix<double, 4> kMirror(1, 1, -1, 1);
 
 bool mirrors(const Eigen::Matrix4d& m) { return m.topLeftCorner<3, 3>().determinant() < 0; }
@@ -62,6 +63,29 @@ void reflect(mesh::Mesh& m) {
   m.positions.col(2) *= -1;
   if (m.normals.rows() > 0) m.normals.col(2) *= -1;
   m.faces.col(1).swap(m.faces.col(2));
+}
+
+/// Whether a mesh's faces are wound against its own normals: the sum over faces of their area
+/// vectors against their corners' normals is negative.
+bool wound_against_normals(const mesh::Mesh& m) {
+  if (m.normals.rows() != m.positions.rows()) return false;
+  double agreement = 0;
+  for (Eigen::Index f = 0; f < m.faces.rows(); ++f) {
+    const auto corner = [&](int k) { return m.positions.row(m.faces(f, k)).cast<double>(); };
+    const Eigen::RowVector3d area = (corner(1) - corner(0)).cross(corner(2) - corner(0));
+    for (int k = 0; k < 3; ++k) agreement += area.dot(m.normals.row(m.faces(f, k)).cast<double>());
+  }
+  return agreement < 0;
+}
+
+/// A mesh whose world transform mirrors shows its faces' other side unless their winding is
+/// reversed: glTF says so, and three.js and the engines draw such a mesh that way. Some
+/// exporters (Blender's DirectX exporter, as Assimp reads its files) wind the data for the mirror
+/// already; their normals say so, and then the winding the file has is the one it means.
+void reflect_mirrored(mesh::Mesh& m) {
+  const bool wound_for_the_mirror = wound_against_normals(m);
+  reflect(m);
+  if (wound_for_the_mirror) m.faces.col(1).swap(m.faces.col(2));
 }
 
 std::string describe(const Eigen::Vector3d& s) {
@@ -289,7 +313,7 @@ class Loader {
     if (std::any_of(materials.begin(), materials.end(), [&](int x) { return x != m.material; }))
       m.face_materials =
           Eigen::Map<const Eigen::VectorXi>(materials.data(), static_cast<Eigen::Index>(materials.size()));
-    if (in.HasBones() ? add_skin(in, m) : mirrored_[static_cast<std::size_t>(node)]) reflect(m);
+    if (in.HasBones() ? add_skin(in, m) : mirrored_[static_cast<std::size_t>(node)]) reflect_mirrored(m);
     m.node = remap_[static_cast<std::size_t>(node)];
     model_.meshes.push_back(std::move(m));
   }

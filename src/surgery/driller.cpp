@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
+#include <limits>
 #include <numbers>
 #include <span>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -85,7 +88,7 @@ void Driller::run(const std::vector<int>& candidates, LocalEdit& edit, DrillStat
   const std::string name = "mesh '" + mesh_.name + "'";
   warn_if_coarse(pass, rims, refinement, name, out.warnings);
   Walls walls;
-  if (options_.wall) walls = wall(pass, rims, name, out.warnings);
+  if (options_.wall) walls = wall(pass, rims, name, out);
   emit(pass, walls, edit, out);
   out.refinements += refinement.rounds;
   out.faces_affected += static_cast<int>(pass.affected.size());
@@ -203,27 +206,45 @@ void Driller::warn_if_coarse(const Pass& pass, const std::vector<Rim>& rims, con
 }
 
 /// Stitches each entry rim to the exit rim that follows it along the axis with a tube (see
-/// zipper), and walls a last entry rim on the drill's boundary up to the tip as a blind hole.
-Walls Driller::wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name,
-                    std::vector<std::string>& warnings) {
-  int open = 0;
+/// zipper) where no surface lies between them, and walls a last entry rim on the drill's boundary
+/// up to the tip as a blind hole where the material goes on past the tip. A tube anywhere else
+/// would leave the body (through a sheet, out of a back the drill did not reach).
+Walls Driller::wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name, DrillStats& out) {
+  std::vector<OpenRim> open;
   const std::vector<Loop> loops = closed_loops(pass, rims, open);
+  const std::vector<AxisHit> hits = loops.empty() ? std::vector<AxisHit>{} : axis_hits();
   Walls walls;
   for (std::size_t i = 0; i < loops.size(); ++i) {
-    const bool entry = loops[i].winding > 0;
-    if (entry && i + 1 < loops.size() && loops[i + 1].winding < 0) {
-      zipper(loops[i].points, loops[i + 1].points, walls.tube);
-      ++i;
+    const Loop& a = loops[i];
+    std::string reason;
+    if (a.winding < 0) {
+      reason =
+          "an exit with no entry before it along the drill (the base's disk cuts the surface, or the surfaces "
+          "face alike)";
+    } else if (i + 1 < loops.size() && loops[i + 1].winding < 0) {
+      reason = between(hits, a, loops[i + 1]);
+      if (reason.empty()) {
+        zipper(a.points, loops[i + 1].points, walls.tube);
+        ++out.walls;
+        ++i;
+        continue;
+      }
+    } else if (i + 1 < loops.size()) {
+      reason = "another entry follows it along the drill";
+    } else if (!on_boundary_to_tip(a)) {
+      reason = "no exit follows it along the drill";
     } else {
-      const bool last = i + 1 == loops.size();
-      const bool walled = entry && last && on_boundary_to_tip(loops[i]) && blind(loops[i].points, walls);
-      open += walled ? 0 : 1;
+      reason = blind_reason(hits, a);
+      if (reason.empty() && !blind(a.points, walls)) reason = "the rim crosses itself seen along the drill";
+      if (reason.empty()) {
+        ++out.walls;
+        continue;
+      }
     }
+    open.push_back({a.points, reason});
   }
-  if (open > 0)
-    warnings.push_back(name + ": " + std::to_string(open) +
-                       " rim(s) of the hole have no partner across the material (the hole meets a mesh boundary, " +
-                       "the base's disk cuts the surface, or the surfaces face alike); left open");
+  out.open_rims += static_cast<int>(open.size());
+  for (const OpenRim& rim : open) out.warnings.push_back(name + ": " + describe(rim) + " left open: " + rim.reason);
   return walls;
 }
 
@@ -653,17 +674,18 @@ std::vector<int> Driller::alive_faces() const {
 
 /// The closed rims as loops, by height; a rim that is open or does not wind about the axis
 /// counts as `open`.
-std::vector<Loop> Driller::closed_loops(const Pass& pass, const std::vector<Rim>& rims, int& open) const {
+std::vector<Loop> Driller::closed_loops(const Pass& pass, const std::vector<Rim>& rims,
+                                        std::vector<OpenRim>& open) const {
   std::vector<Loop> loops;
   for (const Rim& rim : rims) {
+    Loop loop = loop_of(pass, rim);
     if (!rim.closed) {
-      ++open;
+      open.push_back({std::move(loop.points), "it ends on a boundary of the mesh"});
       continue;
     }
-    Loop loop = loop_of(pass, rim);
     // A loop around the axis winds ±2π: + where the surface faces B (an entry), − an exit.
     if (std::abs(loop.winding) < std::numbers::pi) {
-      ++open;
+      open.push_back({std::move(loop.points), "it does not go around the drill's axis"});
       continue;
     }
     loops.push_back(std::move(loop));
@@ -674,14 +696,66 @@ std::vector<Loop> Driller::closed_loops(const Pass& pass, const std::vector<Rim>
 
 Loop Driller::loop_of(const Pass& pass, const Rim& rim) const {
   Loop loop;
+  loop.low = std::numeric_limits<double>::infinity();
+  loop.high = -loop.low;
   for (int c : rim.chords) {
     const Chord& chord = pass.chords[static_cast<std::size_t>(c)];
+    const double h = vertex(chord.p).h;
     loop.points.push_back(chord.p);
     loop.winding += angle_about(c_.axis, projected(chord.p), projected(chord.e));
-    loop.height += vertex(chord.p).h;
+    loop.height += h;
+    loop.low = std::min(loop.low, h);
+    loop.high = std::max(loop.high, h);
   }
   loop.height /= static_cast<double>(loop.points.size());
   return loop;
+}
+
+std::vector<AxisHit> Driller::axis_hits() const {
+  const double reach = c_.length + index_.bvh.diagonal();
+  std::vector<AxisHit> hits;
+  for (const mesh::SegmentHit& hit : index_.bvh.segment_hits(c_.base, c_.base + reach * c_.axis)) {
+    const auto f = mesh_.faces.row(hit.face);
+    const Eigen::Vector3d a = placed_.row(f(0)).cast<double>().transpose(),
+                          b = placed_.row(f(1)).cast<double>().transpose(),
+                          c = placed_.row(f(2)).cast<double>().transpose();
+    hits.push_back({hit.t * reach, (b - a).cross(c - a).dot(c_.axis) > 0});
+  }
+  std::sort(hits.begin(), hits.end(), [](const AxisHit& x, const AxisHit& y) { return x.height < y.height; });
+  return hits;
+}
+
+std::string Driller::between(const std::vector<AxisHit>& hits, const Loop& a, const Loop& b) const {
+  const bool crossed = std::any_of(hits.begin(), hits.end(), [&](const AxisHit& h) {
+    return h.height > a.high + tolerance_ && h.height < b.low - tolerance_;
+  });
+  return crossed ? "the surface lies across the drill's axis between it and the next exit" : "";
+}
+
+std::string Driller::blind_reason(const std::vector<AxisHit>& hits, const Loop& a) const {
+  const auto next =
+      std::find_if(hits.begin(), hits.end(), [&](const AxisHit& h) { return h.height > a.high + tolerance_; });
+  if (next == hits.end()) return "nothing lies past it along the drill: the tip is outside the material";
+  if (!next->exit) return "the surface past it along the drill faces the drill: the tip is outside the material";
+  if (next->height < c_.length - tolerance_)
+    return "the drill leaves the material " + std::to_string(c_.length - next->height) +
+           " before its tip, where it does not cut a whole rim";
+  return "";
+}
+
+std::string Driller::describe(const OpenRim& rim) const {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double depth = 0;
+  for (int x : rim.points) {
+    centre += vertex(x).placed;
+    depth += vertex(x).h;
+  }
+  const auto n = static_cast<double>(std::max<std::size_t>(rim.points.size(), 1));
+  centre /= n;
+  std::ostringstream s;
+  s << std::setprecision(4) << "the rim of " << rim.points.size() << " points around (" << centre.x() << ", "
+    << centre.y() << ", " << centre.z() << "), " << depth / n << " along the drill from its base,";
+  return s.str();
 }
 
 /// A rim on the drill's boundary up to the tip — on the cylinder below it, or on the tip's disk

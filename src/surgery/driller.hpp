@@ -138,6 +138,20 @@ struct RedGreen {
 struct Loop {
   std::vector<int> points;  ///< in the rim's own direction
   double winding = 0, height = 0;
+  double low = 0, high = 0;  ///< the least and greatest height of its points
+};
+
+/// Where the drill's axis, from B on past the tip, crosses the surface: its height above B, and
+/// whether the surface faces along the axis there (the axis leaves the material).
+struct AxisHit {
+  double height = 0;
+  bool exit = false;
+};
+
+/// A rim left without a wall, and why (for the warning that names it).
+struct OpenRim {
+  std::vector<int> points;
+  std::string reason;
 };
 
 /// The triangles of the walls: tubes, and the bottom disks of blind holes (each gets its own
@@ -177,9 +191,10 @@ class Driller {
   /// Warns of a refinement the budget stopped, a disk still inside a face, or a rim still coarse.
   void warn_if_coarse(const Pass& pass, const std::vector<Rim>& rims, const Refinement& refinement,
                       const std::string& name, std::vector<std::string>& warnings) const;
-  /// Tubes between entry and exit rims, blind holes below a last entry rim; warns of rims left open.
-  Walls wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name,
-             std::vector<std::string>& warnings);
+  /// Tubes between an entry rim and the exit rim that bounds the same hole across the material,
+  /// blind holes below a last entry rim whose tip lies in the material; every other rim stays
+  /// open, with a warning naming it. Counts walls and open rims in `out`.
+  Walls wall(const Pass& pass, const std::vector<Rim>& rims, const std::string& name, DrillStats& out);
   /// Step 5: replaces the input faces of the region that changed by their pieces and the walls.
   void emit(const Pass& pass, const Walls& walls, LocalEdit& edit, DrillStats& out) const;
 
@@ -233,9 +248,18 @@ class Driller {
 
   // ---- the wall ----
 
-  [[nodiscard]] std::vector<Loop> closed_loops(const Pass& pass, const std::vector<Rim>& rims, int& open) const;
+  [[nodiscard]] std::vector<Loop> closed_loops(const Pass& pass, const std::vector<Rim>& rims,
+                                               std::vector<OpenRim>& open) const;
   [[nodiscard]] Loop loop_of(const Pass& pass, const Rim& rim) const;
   [[nodiscard]] bool on_boundary_to_tip(const Loop& loop) const;
+  /// The surface along the axis from B to a diagonal past the tip, nearest first.
+  [[nodiscard]] std::vector<AxisHit> axis_hits() const;
+  /// Why no tube joins entry `a` to exit `b` (empty when one may): surface between them.
+  [[nodiscard]] std::string between(const std::vector<AxisHit>& hits, const Loop& a, const Loop& b) const;
+  /// Why entry `a` cannot be the top of a blind hole (empty when it can): the material must go on
+  /// from it past the tip.
+  [[nodiscard]] std::string blind_reason(const std::vector<AxisHit>& hits, const Loop& a) const;
+  [[nodiscard]] std::string describe(const OpenRim& rim) const;
   void zipper(const std::vector<int>& a, const std::vector<int>& b, std::vector<Triangle>& tube) const;
   bool blind(const std::vector<int>& a, Walls& walls);
   int add_off_surface(int above, const Eigen::Vector3d& at);

@@ -122,6 +122,24 @@ std::array<std::string, 2> torso_drill(double time) {
   return {coords(c + Eigen::Vector3d(0, 0, 2)), coords(c - Eigen::Vector3d(0, 0, 2))};
 }
 
+// Assimp's skinned quad (a sheet, 200 units wide) drilled with a wall, the tip 50 units below
+// it: no tube hangs below the sheet; the rim stays open, named in a warning and counted.
+TEST(CliDrill, AWallThroughASheetStaysOpenAndNamesTheRim) {
+  TempDir dir;
+  const fs::path out = dir / "sheet.obj";
+  const Result r = run_ok(dir, {"drill", (fs::path(CGAMESH_TEST_ASSETS) / "quad_skin.glb").string(), "--base", "0,10,0",
+                                "--tip", "0,-50,0", "--radius", "5", "--wall", "-o", out.string(), "--json"});
+  const nlohmann::json j = parse_json(r);
+  EXPECT_EQ(j["rims"].get<int>(), 1) << r;
+  EXPECT_EQ(j["walls"].get<int>(), 0);
+  EXPECT_EQ(j["open_rims"].get<int>(), 1);
+  EXPECT_EQ(j["wall_triangles"].get<int>(), 0);
+  int named = 0;
+  for (const auto& w : j["warnings"]) named += contains(w.get<std::string>(), "left open: ") ? 1 : 0;
+  EXPECT_EQ(named, 1) << r;
+  EXPECT_LT(read_obj_vertices(out).col(1).cwiseAbs().maxCoeff(), 1e-3) << "a tube off the sheet";
+}
+
 TEST(CliDrill, DrillsTheAnimatedModelThroughAndKeepsTheRig) {
   TempDir dir;
   const fs::path out = dir / "drilled.glb";

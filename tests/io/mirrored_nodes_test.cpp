@@ -7,6 +7,9 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
@@ -15,9 +18,11 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/io/text_values.hpp"
 
 #include "anim/model_fixtures.hpp"
 #include "support/gltf_edit.hpp"
+#include "support/js_oracles.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -130,6 +135,72 @@ TEST(MirroredNodes, DirectXRootFrameSwappingAxesLoads) {
   const auto got = world(model, anim::rest_pose(model.skeleton), SkinningMode::cga);
   EXPECT_GT(signed_volume(got[0], model.meshes[0]), 0);  // a cube, wound outwards
   EXPECT_NEAR(got[0].cwiseAbs().maxCoeff(), 1.0, 1e-5);
+}
+
+/// Six times the signed volume of every face, and the share of faces whose winding agrees
+/// with their corners' normals, as Assimp's own PreTransformVertices export of `file` holds them.
+std::pair<double, double> assimp_pretransformed(const fs::path& file) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices);
+  if (scene == nullptr) throw std::runtime_error(importer.GetErrorString());
+  double volume = 0, agree = 0, faces = 0;
+  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
+    const aiMesh& m = *scene->mMeshes[i];
+    for (unsigned f = 0; f < m.mNumFaces; ++f) {
+      const aiFace& face = m.mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      const aiVector3D a = m.mVertices[face.mIndices[0]], b = m.mVertices[face.mIndices[1]],
+                       c = m.mVertices[face.mIndices[2]];
+      volume += (a ^ b) * c;
+      const aiVector3D n = m.mNormals[face.mIndices[0]] + m.mNormals[face.mIndices[1]] + m.mNormals[face.mIndices[2]];
+      agree += ((b - a) ^ (c - a)) * n > 0 ? 1 : 0;
+      ++faces;
+    }
+  }
+  return {volume, agree / faces};
+}
+
+/// The share of faces of `m` posed at `v` whose winding agrees with their posed normals `n`.
+double winding_agrees_with_normals(const mesh::RowMatrixXf<3>& v, const mesh::RowMatrixXf<3>& n, const mesh::Mesh& m) {
+  double agree = 0;
+  for (Eigen::Index f = 0; f < m.face_count(); ++f) {
+    const Eigen::RowVector3f a = v.row(m.faces(f, 0)), b = v.row(m.faces(f, 1)), c = v.row(m.faces(f, 2));
+    const Eigen::RowVector3f normal = n.row(m.faces(f, 0)) + n.row(m.faces(f, 1)) + n.row(m.faces(f, 2));
+    agree += (b - a).cross(c - a).dot(normal) > 0 ? 1 : 0;
+  }
+  return agree / static_cast<double>(m.face_count());
+}
+
+// Blender's DirectX exporter puts a mirroring root frame (Y and Z swapped) above the skinned
+// mesh and winds the mesh's faces for it, as its normals show: the surface comes out as Assimp's
+// own pre-transformed export has it (outward, every face wound with its normals), at rest, in a
+// glTF written from it and in what three.js poses from that glTF.
+TEST(MirroredNodes, DirectXMeshWoundForItsMirrorComesOutAsAssimpExportsIt) {
+  const fs::path x = fs::path(CGAMESH_TEST_ASSETS) / "testentities_lava_flan.x";
+  const auto [assimp_volume, assimp_agree] = assimp_pretransformed(x);
+  ASSERT_GT(assimp_volume, 0);
+  ASSERT_EQ(assimp_agree, 1.0);
+
+  const anim::RiggedModel model = io::load_model(x);
+  ASSERT_EQ(model.meshes.size(), 1u);
+  const io::PosedFrame frame = io::posed_frame(model, anim::rest_pose(model.skeleton), SkinningMode::cga);
+  EXPECT_NEAR(signed_volume(frame.positions[0], model.meshes[0]), assimp_volume, 1e-4 * assimp_volume);
+  EXPECT_EQ(winding_agrees_with_normals(frame.positions[0], frame.normals[0], model.meshes[0]), 1.0);
+
+  cgamesh_test::TempDir dir;
+  const fs::path glb = dir / "flan.glb";
+  (void)io::write_gltf(model, glb);
+  const anim::RiggedModel again = io::load_model(glb);
+  const io::PosedFrame reloaded = io::posed_frame(again, anim::rest_pose(again.skeleton), SkinningMode::cga);
+  EXPECT_NEAR(signed_volume(reloaded.positions[0], again.meshes[0]), assimp_volume, 1e-4 * assimp_volume);
+  EXPECT_EQ(winding_agrees_with_normals(reloaded.positions[0], reloaded.normals[0], again.meshes[0]), 1.0);
+  if (!cgamesh_test::three_available()) GTEST_SKIP() << "three.js oracle not installed";
+  const nlohmann::json three = cgamesh_test::three_reference(glb, {0.0});
+  const auto& p = three["meshes"][0]["posed"]["0"];
+  mesh::RowMatrixXf<3> shown(static_cast<Eigen::Index>(p.size() / 3), 3);
+  for (Eigen::Index i = 0; i < shown.rows(); ++i)
+    for (Eigen::Index k = 0; k < 3; ++k) shown(i, k) = p[static_cast<std::size_t>(3 * i + k)].get<float>();
+  EXPECT_NEAR(signed_volume(shown, again.meshes[0]), assimp_volume, 1e-4 * assimp_volume);
 }
 
 // A mirrored node that a clip rotates cannot be made proper by a fixed reflection: a clear

@@ -23,9 +23,12 @@ inline constexpr int kMaxRefinements = 12;
 
 struct DrillOptions {
   /// Line the hole with a tube between each entry rim and the exit rim that follows it along
-  /// the axis, and a blind hole (an entry rim with no exit before the tip) with a tube down to
-  /// the tip's disk and that disk, so that a closed input stays closed (beyond the paper).
-  /// Other rims (at a mesh boundary, or cut by an end disk) are left open with a warning.
+  /// the axis (where no other surface crosses the axis between them), and a blind hole (an
+  /// entry rim with no exit before the tip, the material going on past the tip) with a tube
+  /// down to the tip's disk and that disk, so that a closed input stays closed (beyond the
+  /// paper). Walls stay inside the material: every other rim (at a mesh boundary, cut by an end
+  /// disk, on a sheet, or before the drill leaves the body short of its tip) is left open with a
+  /// warning naming it, and counted in DrillStats::open_rims.
   /// Wall faces get the cut-surface material (mesh::cut_surface_material_index, added to the
   /// model's materials when a wall is made); the faces around the hole keep their own.
   bool wall = false;
@@ -59,7 +62,9 @@ struct DrillStats {
   int faces_affected = 0;  ///< faces of the (refined) surface the drill reaches
   int refinements = 0;     ///< rounds of 1→4 splitting, over all meshes
   int wall_triangles = 0;
-  int rims = 0;  ///< boundary loops (or chains, where the hole meets a mesh boundary) of the holes
+  int rims = 0;       ///< boundary loops (or chains, where the hole meets a mesh boundary) of the holes
+  int walls = 0;      ///< tubes joining an entry rim to an exit rim, and blind holes' walls
+  int open_rims = 0;  ///< rims left open with `wall` (each named in a warning)
   std::vector<std::string> warnings;
 };
 
