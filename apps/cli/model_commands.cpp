@@ -152,7 +152,8 @@ void run_convert(const ConvertOptions& o) {
   if (o.json)
     std::cout << dump_json(Json({{"output", o.output},
                                  {"meshes", model.meshes.size()},
-                                 {"joints", model.skeleton.size()},
+                                 {"nodes", model.skeleton.size()},
+                                 {"skinned_joints", io::skinned_joint_count(model)},
                                  {"animations", model.clips.size()},
                                  {"warnings", model.warnings}}))
               << "\n";

@@ -92,18 +92,22 @@ struct RenderCommand {
       instances.push_back({&loaded[i], std::move(chosen.pose)});
     }
     const render::Scene scene = render::model_scene(instances, scene_options, &warnings);
-    for (const std::string& w : warnings) std::cerr << "cgamesh: warning: " << w << "\n";
     const auto scene_done = std::chrono::steady_clock::now();
 
     const double aspect = static_cast<double>(options.width) / options.height;
     const render::Box box = scene.bounds();
     render::Camera cam =
         given ? (frame ? render::frame(box, *given, aspect) : *given) : render::frame(box, named, fov, aspect);
+    std::vector<render::Camera> cameras;
+    for (int k = 0; k < views; ++k) cameras.push_back(render::orbit(cam, 2 * std::numbers::pi * k / views));
+    const std::string edge_on = render::edge_on_warning(
+        box, cameras, given ? std::string("the --camera") : "the view '" + (view.empty() ? "front" : view) + "'");
+    if (!edge_on.empty()) warnings.push_back(edge_on);
+    for (const std::string& w : warnings) std::cerr << "cgamesh: warning: " << w << "\n";
     render::HeadlessContext context;
     render::Renderer renderer;
     std::vector<render::Image> images;
-    for (int k = 0; k < views; ++k)
-      images.push_back(renderer.render(scene, render::orbit(cam, 2 * std::numbers::pi * k / views), options));
+    for (const render::Camera& c : cameras) images.push_back(renderer.render(scene, c, options));
     const auto render_done = std::chrono::steady_clock::now();
     render::write_png(views == 1 ? images.front() : render::contact_sheet(images, columns, options.background), output);
 

@@ -159,9 +159,15 @@ struct CutCommand : SurgeryCommand {
     double ms = 0;
     const surgery::ModelCut c = timed([&] { return surgery::cut(scene.model, scene.placement, pi, options); }, ms);
     std::vector<io::EncodedFile> files;
-    for (std::size_t k = 0; k < 2; ++k)
-      for (io::EncodedFile& f : encode_result(c.pieces[k], c.placed[k], scene.pose.pose, outputs[k]))
-        files.push_back(std::move(f));
+    if (outputs.size() == 1) {
+      std::vector<mesh::RowMatrixXf<3>> placed = c.placed[0];
+      placed.insert(placed.end(), c.placed[1].begin(), c.placed[1].end());
+      files = encode_result(surgery::join_pieces(c.pieces), placed, scene.pose.pose, outputs[0]);
+    } else {
+      for (std::size_t k = 0; k < 2; ++k)
+        for (io::EncodedFile& f : encode_result(c.pieces[k], c.placed[k], scene.pose.pose, outputs[k]))
+          files.push_back(std::move(f));
+    }
     io::write_files_atomically(files);
     report(outputs, ms, scene,
            {{"new_vertices", c.new_vertices},
@@ -174,7 +180,7 @@ struct CutCommand : SurgeryCommand {
                " intersection points, " + std::to_string(c.faces_split) + " faces split, " +
                std::to_string(c.faces_out[0]) + " + " + std::to_string(c.faces_out[1]) + " faces" +
                (options.cap ? ", " + std::to_string(c.cap_triangles) + " cap triangles" : "") + "\n  -> " + outputs[0] +
-               ", " + outputs[1],
+               (outputs.size() == 2 ? ", " + outputs[1] : std::string(" (both pieces)")),
            c.warnings);
   }
 };
@@ -271,9 +277,10 @@ void add_cut(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("cut", "Cut a model in two with a plane (both pieces keep skin and animations)");
   c->add_common(*sub);
   sub->add_option("--plane", c->plane, "NX,NY,NZ,D: the plane n.x = d; piece A is the side n.x > d")->required();
-  sub->add_option("-o,--output", c->outputs, "PIECE_A PIECE_B: .glb/.gltf (rigged) or .obj/.ply (as placed)")
+  sub->add_option("-o,--output", c->outputs,
+                  "PIECE_A PIECE_B, or one file holding both: .glb/.gltf (rigged) or .obj/.ply (as placed)")
       ->required()
-      ->expected(2);
+      ->expected(1, 2);
   sub->add_flag("--cap", c->options.cap, "close each piece by triangulating the cross-section");
   sub->add_flag("--own-side-influences", c->options.own_side_influences,
                 "new vertices take influences from their own side only");

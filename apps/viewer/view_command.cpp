@@ -59,7 +59,9 @@ struct ViewCommand {
     const int clip = anim.empty() ? -1 : clip_index(m, anim);
     o.model_path = model;
     o.title = "cgamesh view " + std::filesystem::path(model).filename().string();
-    session::Session s(std::move(m));
+    session::SessionOptions options;
+    options.model_file = model;
+    session::Session s(std::move(m), options);
     s.set_clip(clip);
     s.set_time(time);
     viewer::run_viewer(s, o, script);

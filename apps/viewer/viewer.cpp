@@ -263,9 +263,7 @@ void Viewer::log(const session::OperationReport& r) {
   status_.clear();
   for (const std::string& w : r.warnings) std::cerr << "cgamesh: warning: " << w << "\n";
   if (r.kind == "tear step") return;  // the stroke's tear is logged when it ends
-  std::string command = r.command;
-  if (const auto at = command.find(" MODEL"); at != std::string::npos)
-    command.replace(at + 1, 5, options_.model_path.empty() ? "MODEL" : options_.model_path);
+  const std::string& command = r.command;
   if (options_.json) {
     std::cout << nlohmann::json{{"operation", r.kind},
                                 {"milliseconds", r.milliseconds},

@@ -22,6 +22,7 @@
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/deform/harmonic_handles.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/text_values.hpp"
 #include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/mesh/union_find.hpp"
 #include "cgamesh/mesh/weld.hpp"
@@ -406,6 +407,76 @@ std::vector<int> free_part_keys(const DeformSpec& spec, const mesh::RowMatrixXf<
   return out;
 }
 
+/// The one rule for every point and length a spec gives, as for joint edits and tools: within
+/// io::kMaxReach sizes of the deformed mesh (its box in the spec's space). Beyond, a value makes
+/// no geometric sense for the model, and its arithmetic loses every digit of the model's
+/// coordinates.
+class Reach {
+ public:
+  explicit Reach(const mesh::RowMatrixXf<3>& rest) {
+    if (rest.rows() == 0) return;
+    lo_ = rest.colwise().minCoeff().transpose().cast<double>();
+    hi_ = rest.colwise().maxCoeff().transpose().cast<double>();
+    reach_ = io::kMaxReach * std::max((hi_ - lo_).norm(), 1e-30);
+  }
+
+  /// @throws InvalidInputError "spec.FIELD: ..." when `p` lies farther than the reach from the box.
+  void point(const Eigen::Vector3d& p, const std::string& field) const {
+    const double away = (lo_ - p).cwiseMax(p - hi_).cwiseMax(0.0).stableNorm();
+    if (!(away <= reach_)) too_far(field, "lies " + io::number(away) + " from the mesh,");
+  }
+
+  /// @throws InvalidInputError "spec.FIELD: ..." when `length` exceeds the reach.
+  void length(double length, const std::string& field) const {
+    if (!(std::abs(length) <= reach_)) too_far(field, io::number(length) + " is");
+  }
+
+  void vector(const Eigen::Vector3d& v, const std::string& field) const { length(v.stableNorm(), field); }
+
+  /// The diagonal of the mesh's box.
+  [[nodiscard]] double size() const { return (hi_ - lo_).norm(); }
+
+ private:
+  [[noreturn]] void too_far(const std::string& field, const std::string& what) const {
+    bad(field, what + " more than " + io::number(io::kMaxReach) + " times the mesh's size (" + io::number(size()) +
+                   "): no geometric sense for this model");
+  }
+
+  Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();
+  double reach_ = INFINITY;
+};
+
+/// Checks every point and length of `spec` against `reach`.
+void check_reach(const DeformSpec& spec, const Reach& reach) {
+  for (std::size_t h = 0; h < spec.handles.size(); ++h) {
+    const HandleSelection& s = spec.handles[h];
+    const std::string field = "handles[" + std::to_string(h) + "]";
+    const auto& v = s.shape;
+    if (s.kind == HandleSelection::Kind::sphere) {
+      reach.point({v[0], v[1], v[2]}, field + ".sphere");
+      reach.length(v[3], field + ".sphere");
+    } else if (s.kind == HandleSelection::Kind::box) {
+      reach.point({v[0], v[1], v[2]}, field + ".box");
+      reach.point({v[3], v[4], v[5]}, field + ".box");
+    }
+  }
+  for (std::size_t k = 0; k < spec.keys.size(); ++k) {
+    const std::string field = "keys[" + std::to_string(k) + "]";
+    reach.point(spec.keys[k].center, field + ".center");
+    reach.vector(spec.keys[k].translate, field + ".translate");
+  }
+  if (spec.ik) {
+    for (std::size_t j = 0; j < spec.ik->joints.size(); ++j)
+      reach.point(spec.ik->joints[j], "ik.joints[" + std::to_string(j) + "]");
+    reach.point(spec.ik->target, "ik.target");
+  }
+  if (spec.lattice.box) {
+    reach.point(spec.lattice.box->origin, "lattice.box.origin");
+    reach.vector(spec.lattice.box->size, "lattice.box.size");
+  }
+  reach.length(spec.lattice.margin * reach.size(), "lattice.margin");  // in diagonals
+}
+
 /// Per control point (cage vertex) of `count`, the handles that select it, ascending.
 std::vector<std::vector<int>> keys_of_points(const std::vector<std::vector<int>>& handles, Eigen::Index count) {
   std::vector<std::vector<int>> out(static_cast<std::size_t>(count));
@@ -589,6 +660,7 @@ BoundDeformer::BoundDeformer(const DeformSpec& spec, const anim::RiggedModel& mo
       to_mesh_[static_cast<std::size_t>(i)] << inverse, -inverse * m.col(3);
     }
   }
+  check_reach(spec, Reach(rest_));
   if (spec.method == DeformMethod::ffd) {
     bind_ffd(spec, options);
     return;

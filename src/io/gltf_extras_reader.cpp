@@ -11,6 +11,7 @@
 
 #include "cgamesh/errors.hpp"
 
+#include "excerpt.hpp"
 #include "lower_case.hpp"
 
 namespace cgamesh::io::detail {
@@ -201,7 +202,8 @@ void read_gltf_extras(const std::filesystem::path& path, anim::RiggedModel& mode
   if (!ok) {
     // Assimp read the file (glTF 1.0, say, which tinygltf does not): its LINEAR keys stand.
     while (!err.empty() && err.back() == '\n') err.pop_back();
-    model.warnings.push_back("the animations' interpolation could not be read (" + err + "); keys load as LINEAR");
+    model.warnings.push_back("the animations' interpolation could not be read (" + excerpt(err) +
+                             "); keys load as LINEAR");
     return;
   }
   std::vector<std::string> warnings;

@@ -24,15 +24,26 @@ Json box_json(const InfoBox& b) { return {{"min", vec_json(b.min)}, {"max", vec_
 
 }  // namespace
 
+std::vector<std::vector<int>> joint_skins(const anim::RiggedModel& model) {
+  const anim::Skeleton& sk = model.skeleton;
+  std::vector<std::vector<int>> skins(static_cast<std::size_t>(sk.size()));
+  for (std::size_t i = 0; i < model.meshes.size(); ++i)
+    for (const int j : model.meshes[i].skin.palette)
+      if (j >= 0 && j < sk.size()) skins[static_cast<std::size_t>(j)].push_back(static_cast<int>(i));
+  return skins;
+}
+
+long skinned_joint_count(const anim::RiggedModel& model) {
+  const auto skins = joint_skins(model);
+  return std::count_if(skins.begin(), skins.end(), [](const auto& m) { return !m.empty(); });
+}
+
 ModelInfo model_info(const anim::RiggedModel& model) {
   const anim::Skeleton& sk = model.skeleton;
   const auto rest = posed_positions(model, anim::rest_pose(sk), anim::SkinningMode::matrix);
   ModelInfo info;
-  info.skins.resize(static_cast<std::size_t>(sk.size()));
-  for (std::size_t i = 0; i < model.meshes.size(); ++i)
-    for (const int j : model.meshes[i].skin.palette)
-      if (j >= 0 && j < sk.size()) info.skins[static_cast<std::size_t>(j)].push_back(static_cast<int>(i));
-  info.skinned_joints = std::count_if(info.skins.begin(), info.skins.end(), [](const auto& m) { return !m.empty(); });
+  info.skins = joint_skins(model);
+  info.skinned_joints = skinned_joint_count(model);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
     info.vertices += m.vertex_count();
@@ -55,7 +66,7 @@ std::string model_info_json(const anim::RiggedModel& model, const ModelInfo& inf
                       {"vertices", m.vertex_count()},
                       {"triangles", m.face_count()},
                       {"skinned", !m.skin.empty()},
-                      {"joints", m.skin.palette.size()},
+                      {"skinned_joints", m.skin.palette.size()},
                       {"bounding_box", box_json(info.meshes[i].box)},
                       {"bounding_box_mesh_space", box_json(info.meshes[i].box_mesh_space)}});
   }

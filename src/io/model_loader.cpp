@@ -16,6 +16,7 @@
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
+#include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -28,6 +29,7 @@
 #include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/mesh/weld.hpp"
 
+#include "excerpt.hpp"
 #include "file_vertices.hpp"
 #include "gltf_extras_reader.hpp"
 #include "lower_case.hpp"
@@ -168,6 +170,15 @@ void start_clips_at_zero(anim::RiggedModel& model) {
   }
 }
 
+/// Why a scene gives no model when it has no triangle mesh: an animation file (.bvh, an .md5anim)
+/// is named so, since its reader loads without error.
+std::string no_mesh(const aiScene& scene) {
+  if (scene.mNumAnimations == 0) return "the file holds no triangle mesh";
+  return "the file holds animation (" + std::to_string(scene.mNumAnimations) +
+         (scene.mNumAnimations == 1 ? " clip" : " clips") +
+         ") but no mesh: cgamesh needs a model with a mesh (an animation file alone cannot be posed)";
+}
+
 class Loader {
  public:
   Loader(const aiScene& scene, const LoadOptions& options, std::filesystem::path directory)
@@ -189,7 +200,7 @@ class Loader {
       add_mesh(parts, mesh_refs_[r].first);
       r = end;
     }
-    if (model_.meshes.empty()) throw FileError("the file holds no triangle mesh");
+    if (model_.meshes.empty()) throw FileError(no_mesh(scene_));
     for (unsigned i = 0; i < scene_.mNumMaterials; ++i) add_material(*scene_.mMaterials[i]);
     for (unsigned a = 0; a < scene_.mNumAnimations; ++a) add_clip(*scene_.mAnimations[a], a);
     return std::move(model_);
@@ -581,14 +592,20 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
   if (!std::filesystem::is_regular_file(path, ec)) throw FileError("cannot read '" + path.string() + "': no such file");
   detail::preflight(path);
   Assimp::Importer importer;
+  // Readers of animation formats (.bvh) otherwise make up a mesh of sticks for the skeleton:
+  // that is not the user's model, and the file is refused as holding no mesh.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_NO_SKELETON_MESHES, true);
   // Vertices that agree in every attribute are joined once the model is read
   // (mesh::join_identical_vertices), not by Assimp's JoinIdenticalVertices: glTF's indexed
   // vertices are kept as the file has them, so that vertex ids are the file's.
   const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
+  // Readers of animation formats flag their scene incomplete, as it has no mesh.
+  if (scene != nullptr && scene->mRootNode != nullptr && scene->mNumMeshes == 0 && scene->mNumAnimations > 0)
+    throw FileError("cannot load '" + path.string() + "': " + no_mesh(*scene));
   if (scene == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == nullptr) {
     // For a corrupt or truncated file of a format it reads, Assimp may only say that no reader
-    // suits it: say what the file is not.
-    const std::string error = importer.GetErrorString(), ext = path.extension().string();
+    // suits it: say what the file is not. Its message can quote the rest of the file: bounded.
+    const std::string error = detail::excerpt(importer.GetErrorString()), ext = path.extension().string();
     const bool no_reader = error.find("No suitable reader") != std::string::npos;
     const std::string what = no_reader && !ext.empty() && importer.IsExtensionSupported(ext)
                                  ? "not a valid " + ext + " file (corrupt, truncated or of another format): "

@@ -4,11 +4,16 @@
 #include <cctype>
 #include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "cgamesh/errors.hpp"
 
+#include "excerpt.hpp"
 #include "lower_case.hpp"
 
 namespace cgamesh::io::detail {
@@ -58,11 +63,11 @@ void check_count(const std::filesystem::path& path, const std::string& what, std
 /// A count word, or fail: a negative or non-numeric count is a corrupt header.
 std::uintmax_t parse_count(const std::filesystem::path& path, const std::string& text, long line) {
   if (text.empty() || !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c) != 0; }))
-    fail(path, "line " + std::to_string(line) + " declares a count '" + text + "' that is not a whole number");
+    fail(path, "line " + std::to_string(line) + " declares a count '" + excerpt(text) + "' that is not a whole number");
   try {
     return std::stoull(text);
   } catch (const std::out_of_range&) {
-    fail(path, "line " + std::to_string(line) + " declares a count " + text + " too large to be true");
+    fail(path, "line " + std::to_string(line) + " declares a count " + excerpt(text) + " too large to be true");
   }
 }
 
@@ -135,8 +140,9 @@ void check_off(const std::filesystem::path& path, std::istream& in, std::uintmax
 }
 
 /// A GLB's header and chunk lengths must fit in the file: readers allocate what they declare
-/// (a 4 GB JSON chunk took 30 s to refuse).
-void check_glb(const std::filesystem::path& path, std::istream& in, std::uintmax_t size) {
+/// (a 4 GB JSON chunk took 30 s to refuse). Returns its JSON chunk ("" for a file that is not
+/// binary glTF, or has none).
+std::string check_glb(const std::filesystem::path& path, std::istream& in, std::uintmax_t size) {
   const auto u32 = [&](std::uint32_t& v) {
     unsigned char b[4];
     if (!in.read(reinterpret_cast<char*>(b), 4)) return false;
@@ -145,18 +151,80 @@ void check_glb(const std::filesystem::path& path, std::istream& in, std::uintmax
   };
   std::uint32_t magic = 0, version = 0, length = 0;
   if (!u32(magic) || !u32(version) || !u32(length)) fail(path, "not a valid .glb file: its header is cut short");
-  if (magic != 0x46546c67u) return;  // not binary glTF: the reader says what it is not
+  if (magic != 0x46546c67u) return {};  // not binary glTF: the reader says what it is not
   if (length > size)
     fail(path, "not a valid .glb file: its header declares " + std::to_string(length) + " bytes but the file has " +
                    std::to_string(size) + " (truncated?)");
+  std::string json;
   for (std::uintmax_t offset = 12; offset + 8 <= length;) {
     std::uint32_t chunk = 0, type = 0;
     if (!u32(chunk) || !u32(type)) fail(path, "not a valid .glb file: a chunk header is cut short");
     if (chunk > length - offset - 8)
       fail(path, "not a valid .glb file: the chunk at byte " + std::to_string(offset) + " declares " +
                      std::to_string(chunk) + " bytes, past the end of the file");
+    if (offset == 12 && type == 0x4E4F534Au) {  // "JSON", always the first chunk
+      json.resize(chunk);
+      if (!in.read(json.data(), static_cast<std::streamsize>(chunk)))
+        fail(path, "not a valid .glb file: its JSON chunk is cut short");
+    }
     offset += 8 + chunk;
     in.seekg(static_cast<std::streamoff>(offset));
+  }
+  return json;
+}
+
+/// The extensions a glTF file may require: those Assimp's reader decodes (Debian's is built
+/// with Draco) or whose absence changes no geometry (materials, lights, texture transforms).
+const std::vector<std::string> kSupportedExtensions = {"KHR_draco_mesh_compression",
+                                                       "KHR_lights_punctual",
+                                                       "KHR_materials_clearcoat",
+                                                       "KHR_materials_ior",
+                                                       "KHR_materials_pbrSpecularGlossiness",
+                                                       "KHR_materials_sheen",
+                                                       "KHR_materials_transmission",
+                                                       "KHR_materials_unlit",
+                                                       "KHR_materials_volume",
+                                                       "KHR_texture_basisu",
+                                                       "KHR_texture_transform"};
+
+/// What a glTF file's JSON says that Assimp's reader does not check: the extensions it requires
+/// (one it cannot decode, such as EXT_meshopt_compression, makes it fail for a missing buffer
+/// uri) and inverse bind matrices for every joint of a skin (glTF 2.0 §5.28; Assimp reads past
+/// the accessor). JSON that does not parse is left to the reader to describe.
+void check_gltf_json(const std::filesystem::path& path, const std::string& text) {
+  const nlohmann::json gltf = nlohmann::json::parse(text, nullptr, false);
+  if (!gltf.is_object()) return;
+  if (const auto required = gltf.find("extensionsRequired"); required != gltf.end() && required->is_array()) {
+    std::string unsupported;
+    for (const auto& e : *required)
+      if (e.is_string() && std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), e.get<std::string>()) ==
+                               kSupportedExtensions.end())
+        unsupported += (unsupported.empty() ? "" : ", ") + excerpt(e.get<std::string>());
+    if (!unsupported.empty())
+      fail(path,
+           "it requires glTF extensions that cgamesh cannot read: " + unsupported + " (export the model without them)");
+  }
+  const auto skins = gltf.find("skins"), accessors = gltf.find("accessors");
+  if (skins == gltf.end() || !skins->is_array()) return;
+  for (std::size_t s = 0; s < skins->size(); ++s) {
+    const auto& skin = (*skins)[s];
+    if (!skin.is_object() || !skin.contains("joints") || !skin["joints"].is_array()) continue;
+    const auto ibm = skin.find("inverseBindMatrices");
+    if (ibm == skin.end() || !ibm->is_number_unsigned() || accessors == gltf.end() || !accessors->is_array() ||
+        ibm->get<std::size_t>() >= accessors->size())
+      continue;
+    const auto& accessor = (*accessors)[ibm->get<std::size_t>()];
+    const std::size_t joints = skin["joints"].size();
+    if (!accessor.is_object() || !accessor.contains("count") || !accessor["count"].is_number_unsigned()) continue;
+    const auto count = accessor["count"].get<std::uintmax_t>();
+    if (count < joints) {
+      const std::string name = skin.contains("name") && skin["name"].is_string()
+                                   ? " '" + excerpt(skin["name"].get<std::string>()) + "'"
+                                   : "";
+      fail(path, "skin " + std::to_string(s) + name + " has " + std::to_string(joints) +
+                     " joints but its inverseBindMatrices accessor holds " + std::to_string(count) +
+                     " matrices (invalid glTF: one per joint)");
+    }
   }
 }
 
@@ -164,7 +232,8 @@ void check_glb(const std::filesystem::path& path, std::istream& in, std::uintmax
 
 void preflight(const std::filesystem::path& path) {
   const std::string ext = lower_extension(path);
-  if (ext != ".smd" && ext != ".md5mesh" && ext != ".md5anim" && ext != ".ply" && ext != ".glb" && ext != ".off")
+  if (ext != ".smd" && ext != ".md5mesh" && ext != ".md5anim" && ext != ".ply" && ext != ".glb" && ext != ".gltf" &&
+      ext != ".off")
     return;
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
@@ -175,7 +244,9 @@ void preflight(const std::filesystem::path& path) {
   else if (ext == ".ply")
     check_ply(path, in, size);
   else if (ext == ".glb")
-    check_glb(path, in, size);
+    check_gltf_json(path, check_glb(path, in, size));
+  else if (ext == ".gltf")
+    check_gltf_json(path, std::string(std::istreambuf_iterator<char>(in), {}));
   else if (ext == ".off")
     check_off(path, in, size);
   else

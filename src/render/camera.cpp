@@ -34,7 +34,39 @@ ViewDirection direction(View view) {
   return {{0, 0, 1}, {0, 1, 0}};
 }
 
+/// The one axis along which `box` is flat (thinner than 1e-6 of its diagonal), or -1 (none, or
+/// a box flat along more than one: a line or a point, which no view shows).
+int flat_axis(const Box& box) {
+  if (box.empty()) return -1;
+  const Eigen::Vector3d size = box.hi - box.lo;
+  int axis = -1, count = 0;
+  for (int a = 0; a < 3; ++a)
+    if (size[a] <= 1e-6 * size.norm()) {
+      axis = a;
+      ++count;
+    }
+  return count == 1 ? axis : -1;
+}
+
 }  // namespace
+
+bool sees_edge_on(const Box& box, const Camera& camera) {
+  const int a = flat_axis(box);
+  if (a < 0) return false;
+  const double plane = box.centre()[a];
+  return std::abs(camera.eye[a] - plane) <= 1e-3 * (camera.eye - box.centre()).norm();
+}
+
+std::string edge_on_warning(const Box& box, std::span<const Camera> cameras, const std::string& view) {
+  if (cameras.empty() ||
+      !std::all_of(cameras.begin(), cameras.end(), [&](const Camera& c) { return sees_edge_on(box, c); }))
+    return "";
+  const int a = flat_axis(box);
+  static constexpr const char* kAxis[] = {"x", "y", "z"};
+  static constexpr const char* kFaceOn[] = {"right", "top", "front"};  // views along +x, +y, +z
+  return view + " sees the model edge-on (it is flat along " + kAxis[a] +
+         "), so the picture shows next to nothing; the view '" + kFaceOn[a] + "' sees it face-on";
+}
 
 View parse_view(const std::string& name) {
   if (name == "front") return View::front;

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <utility>
 
@@ -24,11 +24,11 @@ double milliseconds_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-/// `x` to 17 significant digits: read back, it is the same double.
+/// `x` in the fewest digits that read back as the same double (0.9, not 0.90000000000000002).
 std::string exact(double x) {
   std::array<char, 32> buffer{};
-  std::snprintf(buffer.data(), buffer.size(), "%.17g", x);
-  return buffer.data();
+  const auto end = std::to_chars(buffer.data(), buffer.data() + buffer.size(), x).ptr;
+  return std::string(buffer.data(), end);
 }
 
 std::string exact(std::initializer_list<double> xs) {
@@ -56,29 +56,13 @@ int face_total(const anim::RiggedModel& model) {
   return static_cast<int>(n);
 }
 
-/// Both pieces of a cut as one model: piece A's meshes, then piece B's. Both come from one
-/// model, so they share skeleton, clips and textures; B's materials are appended when its
-/// list differs (a cap material that only one piece got).
-anim::RiggedModel join_pieces(std::array<anim::RiggedModel, 2>& pieces) {
-  anim::RiggedModel out = std::move(pieces[0]);
-  anim::RiggedModel& b = pieces[1];
-  const int offset = b.materials.size() == out.materials.size() ? 0 : static_cast<int>(out.materials.size());
-  if (offset != 0) out.materials.insert(out.materials.end(), b.materials.begin(), b.materials.end());
-  for (mesh::Mesh& m : b.meshes) {
-    if (m.material >= 0) m.material += offset;
-    for (Eigen::Index f = 0; f < m.face_materials.rows(); ++f)
-      if (m.face_materials[f] >= 0) m.face_materials[f] += offset;
-    out.meshes.push_back(std::move(m));
-  }
-  return out;
-}
-
 }  // namespace
 
 Session::Session(anim::RiggedModel model, SessionOptions options)
     : options_(std::move(options)),
       original_(std::move(model)),
-      live_(original_, surgery::place(original_, anim::rest_pose(original_.skeleton))) {}
+      live_(original_, surgery::place(original_, anim::rest_pose(original_.skeleton))),
+      source_(options_.model_file) {}
 
 // ---- Animation ----
 
@@ -196,7 +180,9 @@ anim::Pose Session::pose_of(const anim::RiggedModel& m) const {
   return p;
 }
 
-void Session::push_undo() { undo_.push_back({live_, placed_version_}); }
+void Session::push_undo() { undo_.push_back({live_, placed_version_, source_}); }
+
+std::string Session::next_output() const { return "step" + std::to_string(steps_ + 1) + ".glb"; }
 
 void Session::trim_undo() {
   while (undo_.size() > std::max<std::size_t>(options_.max_undo, 1)) undo_.erase(undo_.begin());
@@ -225,6 +211,8 @@ OperationReport Session::finish(OperationReport r, Operation&& operation) {
   redo_.clear();
   trim_undo();
   r.faces = face_total(model());
+  source_ = next_output();  // the next operation acts on this one's result
+  ++steps_;
   return r;
 }
 
@@ -262,26 +250,27 @@ OperationReport Session::cut(const Eigen::Vector3d& normal, double d, const surg
   }
   return operate([&](OperationReport& r) {
     r.kind = "cut";
-    r.command = "cut MODEL" + pose_arguments() + " --plane " + exact({normal.x(), normal.y(), normal.z(), d}) +
-                (options.cap ? " --cap" : "") + (options.own_side_influences ? " --own-side-influences" : "") +
-                rest_argument(options.rest) + " -o OUT_A OUT_B";
+    r.command = "cut " + shell_word(source_) + pose_arguments() + " --plane " +
+                exact({normal.x(), normal.y(), normal.z(), d}) + (options.cap ? " --cap" : "") +
+                (options.own_side_influences ? " --own-side-influences" : "") + rest_argument(options.rest) + " -o " +
+                next_output();
     if (!options.cap) {
       r.warnings = surgery::cut(live_, plane, options).warnings;
       return;
     }
     surgery::ModelCut c = surgery::cut(live_.model(), live_.placement(), plane, options);
     r.warnings = c.warnings;
-    replace_model(join_pieces(c.pieces));
+    replace_model(surgery::join_pieces(std::move(c.pieces)));
   });
 }
 
 std::string Session::tear_command(std::span<const surgery::Scalpel> scalpel, const surgery::TearOptions& options,
                                   const std::string& pose) const {
-  std::string out = "tear MODEL" + pose;
+  std::string out = "tear " + shell_word(source_) + pose;
   for (const surgery::Scalpel& s : scalpel) out += " --scalpel " + vector_text(s.handle) + "," + vector_text(s.tip);
   if (options.open > 0) out += " --open " + exact(options.open);
   if (options.own_side_influences) out += " --own-side-influences";
-  return out + rest_argument(options.rest) + " -o OUT";
+  return out + rest_argument(options.rest) + " -o " + next_output();
 }
 
 OperationReport Session::tear(std::span<const surgery::Scalpel> scalpel, const surgery::TearOptions& options) {
@@ -297,8 +286,8 @@ OperationReport Session::drill(const Eigen::Vector3d& tip, const Eigen::Vector3d
   return operate([&](OperationReport& r) {
     r.kind = "drill";
     const surgery::DrillOptions defaults;
-    r.command = "drill MODEL" + pose_arguments() + " --tip " + vector_text(tip) + " --base " + vector_text(base) +
-                " --radius " + exact(radius) + (options.wall ? " --wall" : "") +
+    r.command = "drill " + shell_word(source_) + pose_arguments() + " --tip " + vector_text(tip) + " --base " +
+                vector_text(base) + " --radius " + exact(radius) + (options.wall ? " --wall" : "") +
                 (options.min_rim_points != defaults.min_rim_points
                      ? " --min-rim-points " + std::to_string(options.min_rim_points)
                      : "") +
@@ -308,7 +297,7 @@ OperationReport Session::drill(const Eigen::Vector3d& tip, const Eigen::Vector3d
                 (options.max_region_faces != defaults.max_region_faces
                      ? " --max-region-faces " + std::to_string(options.max_region_faces)
                      : "") +
-                rest_argument(options.rest) + " -o OUT";
+                rest_argument(options.rest) + " -o " + next_output();
     r.warnings = surgery::drill(live_, tip, base, radius, options).warnings;
   });
 }
@@ -323,7 +312,7 @@ OperationReport Session::deform(const deform::BoundDeformer& deformer, std::span
                             " vertices); bind it again");
   return operate([&](OperationReport& r) {
     r.kind = "deform";
-    r.command = "deform MODEL --spec " + shell_word(spec) + " -o OUT";
+    r.command = "deform " + shell_word(source_) + " --spec " + shell_word(spec) + " -o " + next_output();
     replace_model(deformer.deformed_model(model(), deformer.apply(keys)));
   });
 }
@@ -383,9 +372,10 @@ bool Session::redo() { return !stroking_ && step_history(redo_, undo_); }
 
 bool Session::step_history(std::vector<Snapshot>& from, std::vector<Snapshot>& to) {
   if (from.empty()) return false;
-  to.push_back({std::move(live_), placed_version_});
+  to.push_back({std::move(live_), placed_version_, source_});
   live_ = std::move(from.back().live);
   placed_version_ = from.back().placed_version;
+  source_ = from.back().source;
   from.pop_back();
   after_model_change();
   return true;
@@ -395,6 +385,7 @@ void Session::reset() {
   if (stroking_) end_stroke_discarding();
   undo_.clear();
   redo_.clear();
+  source_ = options_.model_file;
   after_model_change(original_);
   replace_model(original_);
 }

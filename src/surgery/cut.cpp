@@ -555,4 +555,18 @@ LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions&
   return out;
 }
 
+anim::RiggedModel join_pieces(std::array<anim::RiggedModel, 2> pieces) {
+  anim::RiggedModel out = std::move(pieces[0]);
+  anim::RiggedModel& b = pieces[1];
+  const int offset = b.materials.size() == out.materials.size() ? 0 : static_cast<int>(out.materials.size());
+  if (offset != 0) out.materials.insert(out.materials.end(), b.materials.begin(), b.materials.end());
+  for (mesh::Mesh& m : b.meshes) {
+    if (m.material >= 0) m.material += offset;
+    for (Eigen::Index f = 0; f < m.face_materials.rows(); ++f)
+      if (m.face_materials[f] >= 0) m.face_materials[f] += offset;
+    out.meshes.push_back(std::move(m));
+  }
+  return out;
+}
+
 }  // namespace cgamesh::surgery

@@ -119,6 +119,14 @@ TEST(CliInfo, ListsTheJointHierarchyBoxesAndClips) {
   const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(cesium());
   EXPECT_EQ(j["nodes"], m.skeleton.size());
   EXPECT_EQ(j["skinned_joints"], 19);  // the skin's joints, apart from the nodes above them
+  EXPECT_GT(m.skeleton.size(), 19);
+  EXPECT_EQ(j["meshes"][0]["skinned_joints"], 19);
+  EXPECT_FALSE(j["meshes"][0].contains("joints")) << j["meshes"][0].dump();
+  // convert --json names its counts as info does (it said 'joints' for the nodes).
+  const Json c = parse_json(run_ok(dir, {"convert", cesium().string(), "-o", (dir / "c.glb").string(), "--json"}));
+  EXPECT_EQ(c["nodes"], j["nodes"]);
+  EXPECT_EQ(c["skinned_joints"], j["skinned_joints"]);
+  EXPECT_FALSE(c.contains("joints")) << c.dump();
   ASSERT_EQ(j["skeleton"].size(), static_cast<std::size_t>(m.skeleton.size()));
   int skinning = 0;
   for (int i = 0; i < m.skeleton.size(); ++i) {

@@ -1,5 +1,6 @@
 // `cgamesh render`: pictures of models and of surgery results, and every bad request refused.
 #include <cstdlib>
+#include <fstream>
 #include <span>
 
 #include <gtest/gtest.h>
@@ -37,6 +38,21 @@ TEST(CliRender, WritesAPictureOfTheRequestedSize) {
   for (std::size_t i = 0; i < image.rgba.size(); i += 4)
     drawn += image.rgba[i] + image.rgba[i + 1] + image.rgba[i + 2] < 700;
   EXPECT_GT(drawn, 500);
+}
+
+// Issue #33 item 7: a flat model seen edge-on made a blank picture without a word.
+TEST(CliRender, AFlatModelSeenEdgeOnIsAWarning) {
+  TempDir dir;
+  const fs::path quad = dir.path() / "ground.obj", out = dir.path() / "ground.png";
+  { std::ofstream(quad) << "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 3 2\nf 1 4 3\n"; }
+  const Result front = run_ok(dir, {"render", quad.string(), "-o", out.string(), "--size", "64x48", "--json"});
+  EXPECT_TRUE(contains(front.err, "warning: the view 'front' sees the model edge-on")) << front;
+  const auto j = parse_json(front);
+  bool warned = false;
+  for (const auto& w : j["warnings"]) warned |= contains(w.get<std::string>(), "'top' sees it face-on");
+  EXPECT_TRUE(warned) << front;
+  const Result top = run_ok(dir, {"render", quad.string(), "-o", out.string(), "--size", "64x48", "--view", "top"});
+  EXPECT_FALSE(contains(top.err, "edge-on")) << top;
 }
 
 TEST(CliRender, TurntableMakesAContactSheetAndCutPiecesRenderTogether) {

@@ -87,7 +87,7 @@ TEST(CliCut, FailuresWriteNothing) {
   expect_failure(f, {"cut", model, "--plane", "0,0,0,1", "-o", a.string(), b.string()}, 2, "zero vector", a);
   expect_failure(f, {"cut", model, "--plane", "0,1,0", "-o", a.string(), b.string()}, 2, "expected 4", a);
   expect_failure(f, {"cut", model, "--plane", "0,nan,0,1", "-o", a.string(), b.string()}, 2, "not finite", a);
-  expect_failure(f, {"cut", model, "--plane", "0,1,0,0.5", "-o", a.string()}, 2, "-o", a);
+  expect_failure(f, {"cut", model, "--plane", "0,1,0,0.5", "-o", a.string(), b.string(), a.string()}, 2, "-o", a);
   expect_failure(f, {"cut", model, "--plane", "0,1,0,0.5", "--anim", "walk", "-o", a.string(), b.string()}, 2,
                  "no animation 'walk'", a);
   // A clip the model lacks (--time alone on a model without clips is only a warning).
@@ -100,6 +100,21 @@ TEST(CliCut, FailuresWriteNothing) {
                  2, "cannot write", a);
   expect_failure(f, {"cut", (f.inputs / "missing.glb").string(), "--plane", "0,1,0,0.5", "-o", a.string(), b.string()},
                  3, "no such file", a);
+}
+
+// One output holds both pieces, as a viewer session keeps them (its replay commands write so).
+TEST(CliCut, OneOutputHoldsBothPieces) {
+  TempDir dir;
+  const fs::path a = dir / "a.glb", b = dir / "b.glb", both = dir / "both.glb";
+  const std::string model = demo_model().string();
+  run_ok(dir, {"cut", model, "--plane", "0,1,0,0.5", "--cap", "-o", a.string(), b.string()});
+  run_ok(dir, {"cut", model, "--plane", "0,1,0,0.5", "--cap", "-o", both.string()});
+  const cgamesh::anim::RiggedModel pa = cgamesh::io::load_model(a), pb = cgamesh::io::load_model(b),
+                                   joined = cgamesh::io::load_model(both);
+  ASSERT_EQ(joined.meshes.size(), pa.meshes.size() + pb.meshes.size());
+  EXPECT_EQ(joined.meshes.front().face_count(), pa.meshes.front().face_count());
+  EXPECT_EQ(joined.meshes.back().face_count(), pb.meshes.back().face_count());
+  EXPECT_EQ(joined.clips.size(), pa.clips.size());
 }
 
 /// "X,Y,Z" of a point.

@@ -21,6 +21,7 @@
 
 #include "anim/model_fixtures.hpp"
 #include "apps/cli_util.hpp"
+#include "support/gltf_edit.hpp"
 #include "support/js_oracles.hpp"
 
 namespace {
@@ -395,6 +396,28 @@ TEST(CliErrors, HangingOrOverdeclaredFilesAreBadInputAndLoadingHasATimeBudget) {
   expect_failure(f, {"info", cesium().string(), "--load-timeout", "0.000001"}, 3, "allow more with --load-timeout",
                  out);
   expect_failure(f, {"info", cesium().string(), "--load-timeout", "-1"}, 2, "load-timeout", out);
+}
+
+// Issue #33 item 7: messages a person can read, and exit 3 for a file no command can use.
+TEST(CliErrors, RefusedFilesAreNamedInAFewLines) {
+  Failure f;
+  const fs::path out = f.outputs / "out.glb";
+  const Result x = run_cli({"info", cgamesh_test::asset("testentities_cool_guy.x").string()}, f.inputs.path());
+  EXPECT_EQ(x.code, 3) << x;
+  EXPECT_LT(x.err.size(), 600u) << x.err.size();  // was 34 kB: Assimp quotes the rest of the file
+  expect_failure(f, {"convert", cgamesh_test::asset("pirate_meshopt.glb").string(), "-o", out.string()}, 3,
+                 "requires glTF extensions that cgamesh cannot read: KHR_mesh_quantization, EXT_meshopt_compression",
+                 out);
+  // Fewer inverse bind matrices than joints: refused by every command, naming the skin.
+  tinygltf::Model m = cgamesh_test::read_glb(cgamesh_test::asset("RiggedSimple.glb"));
+  m.accessors[static_cast<std::size_t>(m.skins[0].inverseBindMatrices)].count -= 1;
+  const fs::path bad = cgamesh_test::write_glb(std::move(m), f.inputs / "short_ibm.glb");
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"info", bad.string()},
+        {"convert", bad.string(), "-o", out.string()},
+        {"pose", bad.string(), "-o", out.string()},
+        {"cut", bad.string(), "--plane", "0,0,1,0", "-o", out.string(), (f.outputs / "b.glb").string()}})
+    expect_failure(f, args, 3, "skin 0 'Armature' has 2 joints but its inverseBindMatrices accessor holds 1", out);
 }
 
 TEST(CliErrors, TextFileNamedGlbIsBadInput) {

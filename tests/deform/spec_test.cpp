@@ -230,6 +230,46 @@ TEST(DeformSpecBind, MeshErrorsNameTheField) {
             std::string::npos);
 }
 
+// Issue #33 item 7: one rule for every point and length a spec gives, as for tools and joint
+// edits: no farther than io::kMaxReach (10^6) mesh sizes (an IK target of 1e308 was accepted).
+TEST(DeformSpecBind, EveryPointIsWithinReachOfTheMesh) {
+  const anim::RiggedModel model = model_of(cylinder(12, 5));
+  const auto message = [&](const std::string& text) {
+    try {
+      (void)BoundDeformer(parse_spec(text, "inline"), model);
+    } catch (const InvalidInputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string far = "1e308", two = R"("basis": "linear", "handles": [[0], [1]], )";
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"method": "spline", )" + two + R"("ik": {"joints": [[0, 0, 0], [0, 0, 1]], "target": [0, 0, )" + far + "]}}",
+       "spec.ik.target: lies 1e+308 from the mesh, more than 1e+06 times the mesh's size"},
+      {R"({"method": "spline", )" + two + R"("ik": {"joints": [[0, 0, 0], [0, )" + far +
+           R"(, 1]], "target": [0, 0, 1]}})",
+       "spec.ik.joints[1]: "},
+      {R"({"method": "harmonic", )" + two + R"("keys": [{}, {"translate": [)" + far + ", 0, 0]}]}",
+       "spec.keys[1].translate: "},
+      {R"({"method": "harmonic", )" + two + R"("keys": [{"center": [0, 0, -)" + far + "]}, {}]}",
+       "spec.keys[0].center: "},
+      {R"({"method": "harmonic", "handles": [[0], {"sphere": [0, 0, 0, )" + far + R"(]}], "keys": [{}, {}]})",
+       "spec.handles[1].sphere: "},
+      {R"({"method": "harmonic", "handles": [[0], {"box": [0, 0, 0, 1, 1, )" + far + R"(]}], "keys": [{}, {}]})",
+       "spec.handles[1].box: "},
+      {R"({"method": "ffd", "lattice": {"box": {"origin": [)" + far +
+           R"(, 0, 0], "size": [1, 1, 1]}}, "handles": [[[0, 0, 0]]], "keys": [{}]})",
+       "spec.lattice.box.origin: "},
+      {R"({"method": "ffd", "lattice": {"margin": 1e300}, "handles": [[[0, 0, 0]]], "keys": [{}]})",
+       "spec.lattice.margin: "},
+  };
+  for (const auto& [text, field] : cases) EXPECT_NE(message(text).find(field), std::string::npos) << message(text);
+  // Within reach, far from the mesh is still a point: an IK target 10 sizes away binds.
+  EXPECT_EQ(
+      message(R"({"method": "spline", )" + two + R"("ik": {"joints": [[0, 0, 0], [0, 0, 1]], "target": [0, 0, 50]}})"),
+      "(no error)");
+}
+
 // Messages and index handles use the file's numbering (here an OBJ whose `v` lines are in
 // another order than the loader's vertices, with one unused line), not the loaded mesh's.
 TEST(DeformSpecBind, IndicesAndMessagesUseTheFilesNumbering) {

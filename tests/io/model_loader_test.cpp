@@ -153,6 +153,67 @@ TEST(ModelLoader, BadFilesThrowFileError) {
   fs::remove_all(dir);
 }
 
+/// The message of the FileError that loading `path` throws ("" and a failure when it loads).
+std::string load_error(const fs::path& path) {
+  try {
+    (void)io::load_model(path);
+  } catch (const FileError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " loaded";
+  return "";
+}
+
+// Issue #33 item 7: messages a person can read. Assimp's parse error of this .x file quotes the
+// rest of the file (34 kB); the message quotes an excerpt and says how much it left out.
+TEST(ModelLoader, AReadersMessageIsQuotedAsAShortExcerpt) {
+  const std::string message = load_error(cgamesh_test::asset("testentities_cool_guy.x"));
+  EXPECT_LT(message.size(), 500u) << message.size();
+  EXPECT_NE(message.find("testentities_cool_guy.x"), std::string::npos) << message;
+  EXPECT_NE(message.find("… ("), std::string::npos) << message;
+  EXPECT_NE(message.find(" more bytes)"), std::string::npos) << message;
+}
+
+// Required extensions that cannot be decoded are named (Assimp said "missing the uri").
+TEST(ModelLoader, UnsupportedRequiredExtensionsAreNamed) {
+  const std::string message = load_error(cgamesh_test::asset("pirate_meshopt.glb"));
+  EXPECT_NE(message.find("EXT_meshopt_compression"), std::string::npos) << message;
+  EXPECT_NE(message.find("KHR_mesh_quantization"), std::string::npos) << message;
+  EXPECT_EQ(message.find("uri"), std::string::npos) << message;
+  // Draco, which Debian's Assimp decodes, is not refused for being required.
+  cgamesh_test::TempDir dir;
+  tinygltf::Model m = cgamesh_test::read_glb(cgamesh_test::asset("RiggedSimple.glb"));
+  m.extensionsUsed = {"KHR_draco_mesh_compression", "KHR_texture_transform"};
+  m.extensionsRequired = m.extensionsUsed;
+  EXPECT_NO_THROW((void)io::load_model(cgamesh_test::write_glb(std::move(m), dir / "required.glb")));
+}
+
+// A file of animation alone (a motion-capture .bvh) is said to be one.
+TEST(ModelLoader, AnimationWithoutAMeshIsNamed) {
+  const fs::path bvh = "/usr/share/assimp/models/BVH/01_01.bvh";
+  if (!fs::exists(bvh)) GTEST_SKIP() << bvh << " is not installed (assimp-testmodels)";
+  const std::string message = load_error(bvh);
+  EXPECT_NE(message.find("holds animation (1 clip) but no mesh"), std::string::npos) << message;
+}
+
+// glTF 2.0 §5.28: a skin's inverseBindMatrices hold one matrix per joint. Fewer is refused,
+// naming the skin (Assimp read past the accessor).
+TEST(ModelLoader, TooFewInverseBindMatricesAreRefused) {
+  cgamesh_test::TempDir dir;
+  tinygltf::Model m = cgamesh_test::read_glb(cgamesh_test::asset("RiggedSimple.glb"));
+  ASSERT_FALSE(m.skins.empty());
+  tinygltf::Skin& skin = m.skins[0];
+  ASSERT_GE(skin.inverseBindMatrices, 0);
+  auto& accessor = m.accessors[static_cast<std::size_t>(skin.inverseBindMatrices)];
+  ASSERT_EQ(accessor.count, skin.joints.size());
+  accessor.count -= 1;
+  skin.name = "the skin";
+  const std::string joints = std::to_string(skin.joints.size());
+  const std::string message = load_error(cgamesh_test::write_glb(std::move(m), dir / "short_ibm.glb"));
+  EXPECT_NE(message.find("skin 0 'the skin' has " + joints + " joints"), std::string::npos) << message;
+  EXPECT_NE(message.find("inverseBindMatrices"), std::string::npos) << message;
+}
+
 // A zero scale key (a byte flip in a real file) is a broken file when loading, whatever the
 // command does with the clip afterwards; a directory is named as one.
 TEST(ModelLoader, ZeroScaleKeyAndDirectoryAreNamed) {

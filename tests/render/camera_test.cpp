@@ -3,6 +3,9 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
+#include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -84,6 +87,37 @@ TEST(Camera, OrbitTurnsAboutTheUpAxisThroughTheTarget) {
   const Camera quarter = render::orbit(c, std::numbers::pi / 2);
   EXPECT_TRUE(quarter.eye.isApprox(Eigen::Vector3d(4, 1, 0), 1e-12));
   EXPECT_TRUE(render::orbit(c, 2 * std::numbers::pi).eye.isApprox(c.eye, 1e-12));
+}
+
+// Issue #33 item 7: a flat model seen along its plane draws nothing; the warning says so and
+// names the view that sees it face-on.
+TEST(Camera, AFlatBoxSeenEdgeOnIsNamed) {
+  Box flat;  // a sheet in the xz-plane, as a ground quad
+  flat.add({-1, 0.5, -2});
+  flat.add({1, 0.5, 2});
+  const Camera front = render::frame(flat, View::front, 35, 1.5), top = render::frame(flat, View::top, 35, 1.5);
+  EXPECT_TRUE(render::sees_edge_on(flat, front));
+  EXPECT_FALSE(render::sees_edge_on(flat, top));
+  EXPECT_FALSE(render::sees_edge_on(flat, render::frame(flat, View::iso, 35, 1.5)));
+  const std::string w = render::edge_on_warning(flat, std::span(&front, 1), "the view 'front'");
+  EXPECT_NE(w.find("the view 'front' sees the model edge-on (it is flat along y)"), std::string::npos) << w;
+  EXPECT_NE(w.find("the view 'top' sees it face-on"), std::string::npos) << w;
+  EXPECT_EQ(render::edge_on_warning(flat, std::span(&top, 1), "the view 'top'"), "");
+  // A turntable about y never leaves the plane: every view is edge-on. About a sheet in the
+  // xy-plane, some views see it: no warning.
+  const std::vector<Camera> turns = {front, render::orbit(front, std::numbers::pi / 2)};
+  EXPECT_NE(render::edge_on_warning(flat, turns, "the view 'front'"), "");
+  Box wall;
+  wall.add({-1, 0, 0});
+  wall.add({1, 2, 0});
+  const Camera side = render::frame(wall, View::right, 35, 1.5);
+  EXPECT_NE(render::edge_on_warning(wall, std::span(&side, 1), "v").find("'front' sees it face-on"), std::string::npos);
+  const std::vector<Camera> around = {side, render::orbit(side, std::numbers::pi / 2)};
+  EXPECT_EQ(render::edge_on_warning(wall, around, "v"), "");
+  // A box with depth is never edge-on.
+  Box solid = flat;
+  solid.add({0, 1, 0});
+  EXPECT_FALSE(render::sees_edge_on(solid, front));
 }
 
 TEST(Camera, BadCamerasAreRejected) {

@@ -115,6 +115,32 @@ TEST(Session, ACappedCutKeepsBothClosedPiecesAsMeshes) {
   EXPECT_EQ(s.model().meshes.size(), 1u);
 }
 
+// Issue #33 item 7: the replay commands chain (each acts on the file the one before wrote, an
+// undone step's on what the model shown came from) and print numbers in their shortest exact form.
+TEST(Session, ReplayCommandsChainAndPrintShortestNumbers) {
+  cgamesh::session::SessionOptions options;
+  options.model_file = "in put.glb";
+  Session s(cesium(), options);
+  const auto cut = s.cut({0, 1, 0}, 0.9);
+  EXPECT_EQ(cut.command, "cut 'in put.glb' --plane 0,1,0,0.9 -o step1.glb");
+  s.set_clip(0);
+  s.set_time(0.5);
+  const auto drill = s.drill({0.0, 1.3, -0.05}, {0.0, 1.3, 0.3}, 0.04);
+  EXPECT_EQ(drill.command,
+            "drill step1.glb --anim 0 --time 0.5 --blend format --tip 0,1.3,-0.05 --base 0,1.3,0.3 --radius 0.04 -o "
+            "step2.glb");
+  ASSERT_TRUE(s.undo());
+  const auto tear = s.tear(std::vector<cgamesh::surgery::Scalpel>{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}},
+                                                                  {{-0.005, 0.93, 2}, {-0.005, 0.93, 0.06}}});
+  EXPECT_EQ(tear.command.substr(0, 16), "tear step1.glb -") << tear.command;
+  EXPECT_TRUE(tear.command.ends_with(" -o step3.glb")) << tear.command;
+  EXPECT_NE(tear.command.find("--scalpel 0.01,0.9,2,0.01,0.9,0.06 --scalpel -0.005,0.93,2,-0.005,0.93,0.06"),
+            std::string::npos)
+      << tear.command;
+  s.reset();
+  EXPECT_TRUE(s.cut({0, 1, 0}, 0.9).command.starts_with("cut 'in put.glb' ")) << "reset: back to the file";
+}
+
 TEST(Session, AStrokeEndsAsTheTearOverAllItsSteps) {
   // The README's tear of CesiumMan at t = 0.5.
   const std::vector<cgamesh::surgery::Scalpel> blades{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}},

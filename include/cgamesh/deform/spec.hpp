@@ -180,7 +180,11 @@ class BoundDeformer {
   /// non-degenerate triangle) are moved as `spec.free_parts` says.
   /// @param[in] spec   a parsed spec
   /// @param[in] model  the model; it may be destroyed after binding
-  /// @throws InvalidInputError "spec.mesh: ..." for a mesh index out of range, "spec.handles[h]:
+  /// @throws InvalidInputError "spec.mesh: ..." for a mesh index out of range; "spec.FIELD: ..."
+  ///         for a point (a sphere's or box's, a key's center, an IK joint or target, the lattice
+  ///         box's origin) or a length (a sphere's radius, a key's translation, the lattice box's
+  ///         size or margin) beyond io::kMaxReach sizes of the mesh (its box in the spec's space);
+  ///         "spec.handles[h]:
   ///         ..." for an index out of range, a selection of no vertex or a vertex (or welded
   ///         position) shared with another handle; "spec.handles", "spec.keys" or
   ///         "spec.ik.joints: ..." for a count the method or basis cannot take (harmonic: one key

@@ -31,12 +31,20 @@ struct ModelInfo {
   InfoBox box;                          ///< every mesh in the bind pose, world space
 };
 
+/// Per joint of `model`'s skeleton, the meshes whose skin palette holds it (ascending).
+[[nodiscard]] std::vector<std::vector<int>> joint_skins(const anim::RiggedModel& model);
+
+/// The joints of `model` that skin some mesh (a skeleton also holds the nodes above and beside
+/// them: `nodes` counts those too).
+[[nodiscard]] long skinned_joint_count(const anim::RiggedModel& model);
+
 /// The summary of `model` (bind-pose boxes from matrix skinning, eq. 16).
 [[nodiscard]] ModelInfo model_info(const anim::RiggedModel& model);
 
 /// `info --json`'s document for `model` read from `file`, as indented JSON text (names that are
-/// not UTF-8 get U+FFFD): file, pose, meshes, vertices, triangles, nodes, skinned_joints,
-/// skeleton, animations, max_influences, bounding_box, warnings.
+/// not UTF-8 get U+FFFD): file, pose, meshes (each with its skinned_joints: the size of its skin
+/// palette), vertices, triangles, nodes, skinned_joints, skeleton, animations, max_influences,
+/// bounding_box, warnings.
 [[nodiscard]] std::string model_info_json(const anim::RiggedModel& model, const ModelInfo& info,
                                           const std::string& file);
 

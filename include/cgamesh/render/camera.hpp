@@ -3,6 +3,7 @@
 // −z, clip space z in [−w, w]), named views, and framing a bounding box. No OpenGL here: the
 // same matrices project points on the CPU (tests compare silhouettes with them).
 
+#include <span>
 #include <string>
 
 #include <Eigen/Core>
@@ -55,6 +56,16 @@ void validate(const Camera& camera);
 /// and target moved), holding the box as frame(box, view, ...) does.
 /// @throws InvalidInputError for an empty box, a non-positive aspect or a bad camera.
 [[nodiscard]] Camera frame(const Box& box, const Camera& camera, double aspect);
+
+/// Whether `camera` sees `box` edge-on: the box is flat along one axis (thinner than 1e-6 of its
+/// diagonal: a planar model) and the eye lies in its plane, within 1e-3 of its distance to the
+/// box, so the model projects to a line and draws (next to) no pixel.
+[[nodiscard]] bool sees_edge_on(const Box& box, const Camera& camera);
+
+/// Why pictures of `box` taken by `cameras` would be blank, or "": when every camera sees the
+/// box edge-on (sees_edge_on), a warning that names `view` (how the user chose the cameras, e.g.
+/// "the view 'front'") and the named view that looks at the box face-on.
+[[nodiscard]] std::string edge_on_warning(const Box& box, std::span<const Camera> cameras, const std::string& view);
 
 /// `camera` turned by `radians` about the axis through its target along its up vector (a
 /// turntable step; positive turns the eye counter-clockwise seen from above).

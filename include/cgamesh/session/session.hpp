@@ -31,8 +31,11 @@ struct OperationReport {
   std::string kind;                   ///< "cut", "tear", "tear step" or "drill"
   double milliseconds = 0;            ///< the operation alone
   double placement_milliseconds = 0;  ///< placing and indexing the model first (0 when the pose had not changed)
-  /// The `cgamesh` command that does the same to the model file (the tool's parameters and the
-  /// pose, numbers to 17 digits), with MODEL and OUT for the file names.
+  /// The `cgamesh` command that does the same to a file (the tool's parameters and the pose,
+  /// numbers in the fewest digits that read back exactly). The commands chain: the first reads
+  /// SessionOptions::model_file, each writes stepN.glb (N = 1, 2, ...
+  /// over the session) and the next reads what the one before wrote (after an undo, what the
+  /// model shown came from). A cut writes both pieces to one file, as the session holds them.
   std::string command;
   int faces = 0;  ///< faces of the model after the operation
   std::vector<std::string> warnings;
@@ -49,8 +52,9 @@ struct Pick {
 };
 
 struct SessionOptions {
-  std::size_t max_undo = 16;        ///< snapshots kept for undo (each is a copy of the model and its index)
-  anim::KeyframeOptions keyframes;  ///< how generate_clip() bakes the keys
+  std::size_t max_undo = 16;         ///< snapshots kept for undo (each is a copy of the model and its index)
+  anim::KeyframeOptions keyframes;   ///< how generate_clip() bakes the keys
+  std::string model_file = "MODEL";  ///< the model's file, as the first replay command reads it
 };
 
 class Session {
@@ -168,6 +172,7 @@ class Session {
   struct Snapshot {
     surgery::LiveModel live;
     long placed_version;
+    std::string source;  ///< the file its model is, in the replay commands
   };
   /// Places and indexes the model in the current pose unless it already is; returns the ms spent.
   double place_now();
@@ -193,6 +198,8 @@ class Session {
   void after_model_change();
   /// Back to the snapshot taken when the stroke began.
   void end_stroke_discarding();
+  /// The file the next operation's command writes: step{steps_ + 1}.glb.
+  [[nodiscard]] std::string next_output() const;
   /// " --anim I --time T --blend B --set ..." for the current pose.
   [[nodiscard]] std::string pose_arguments() const;
   [[nodiscard]] std::string tear_command(std::span<const surgery::Scalpel> scalpel, const surgery::TearOptions& options,
@@ -214,6 +221,8 @@ class Session {
   bool stroking_ = false;
   std::vector<surgery::Scalpel> stroke_;
   std::string stroke_pose_;  ///< pose_arguments() when the stroke began
+  std::string source_;       ///< the file the current model is, in the replay commands
+  int steps_ = 0;            ///< operations finished: the last command wrote step{steps_}.glb
 };
 
 }  // namespace cgamesh::session

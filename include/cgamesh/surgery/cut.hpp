@@ -104,6 +104,11 @@ struct LiveCut : CutStats {
 [[nodiscard]] ModelCut cut(const anim::RiggedModel& model, const Placement& placement, const cga::Vector<double>& plane,
                            const CutOptions& options = {});
 
+/// Both pieces of a cut as one model (`cut -o OUT` with one output, a viewer's capped cut): piece
+/// A's meshes, then piece B's. Both come from one model, so they share skeleton, clips and
+/// textures; B's materials are appended when its list differs (a cap material only one got).
+[[nodiscard]] anim::RiggedModel join_pieces(std::array<anim::RiggedModel, 2> pieces);
+
 /// Cuts `live` in place with the plane Π = n + d e∞: the faces Π crosses are re-triangulated
 /// as cut() does, and every vertex on Π (old, or new on a crossed edge) gets one copy per side,
 /// so each mesh falls apart into its two pieces where it is. Only the faces near Π are visited
