@@ -166,7 +166,7 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
       std::shared_ptr<const Image> image;
       try {
         const mesh::TextureImage& ti = model.textures[static_cast<std::size_t>(t)];
-        image = std::make_shared<const Image>(decode_image(ti.data(), "texture '" + ti.name + "'"));
+        image = std::make_shared<const Image>(decode_image(ti.data(), "texture '" + ti.name + "'", warnings));
       } catch (const FileError& e) {
         if (warnings) warnings->push_back(std::string(e.what()) + "; drawn without it");
       }

@@ -1,5 +1,6 @@
 #include "cgamesh/render/model_scene.hpp"
 
+#include <fstream>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include "cgamesh/surgery/placement.hpp"
 
 #include "anim/model_fixtures.hpp"
+#include "support/jpeg.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -76,6 +78,37 @@ TEST(ModelScene, MaterialModeUsesTheBaseColourTexture) {
   const render::Scene b = scene_of(broken, {}, &warnings);
   EXPECT_FALSE(b.meshes[0].texture);
   ASSERT_EQ(warnings.size(), 1u) << warnings.back();
+}
+
+TEST(ModelScene, TexturesThatLibjpegRepairsAreDrawnWithItsWarning) {
+  // CesiumMan's texture encoded progressive, with stray bytes before each scan (as "dwarf.jpg",
+  // which browsers and Assimp's viewer show): the texture of a triangle in an OBJ.
+  const auto cesium = cgamesh::io::load_model(cgamesh_test::demo_model());
+  const render::Image source = render::decode_image(cesium.textures.at(0).data(), "CesiumMan");
+  const std::vector<std::uint8_t> progressive = cgamesh_test::encode_jpeg(source, true);
+  const std::vector<std::uint8_t> damaged = cgamesh_test::with_stray_bytes_before_scans(progressive, 4);
+  const cgamesh_test::TempDir dir;
+  std::ofstream(dir / "dwarf.jpg", std::ios::binary)
+      .write(reinterpret_cast<const char*>(damaged.data()), static_cast<std::streamsize>(damaged.size()));
+  std::ofstream(dir / "dwarf.mtl") << "newmtl skin\nKd 1 1 1\nmap_Kd dwarf.jpg\n";
+  std::ofstream(dir / "dwarf.obj") << "mtllib dwarf.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                                      "usemtl skin\nf 1/1 2/2 3/3\n";
+  const auto model = cgamesh::io::load_model(dir / "dwarf.obj");
+  ASSERT_EQ(model.textures.size(), 1u);
+  std::vector<std::string> warnings;
+  const render::Scene s = scene_of(model, {}, &warnings);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_TRUE(s.meshes[0].texture) << (warnings.empty() ? "" : warnings[0]);
+  // The pixels of the undamaged file, and those are the source's within JPEG's loss.
+  const render::Image& texture = *s.meshes[0].texture;
+  EXPECT_EQ(texture.rgba, render::decode_image(progressive, "clean").rgba);
+  ASSERT_EQ(texture.rgba.size(), source.rgba.size());
+  double error = 0;
+  for (std::size_t i = 0; i < source.rgba.size(); ++i) error += std::abs(int{texture.rgba[i]} - int{source.rgba[i]});
+  EXPECT_LT(error / static_cast<double>(source.rgba.size()), 2.0);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("texture 'dwarf.jpg': Corrupt JPEG data: 4 extraneous bytes before marker 0xda", 0), 0u)
+      << warnings[0];
 }
 
 TEST(ModelScene, MaterialModeDrawsTheCapsOfACutInTheCutSurfaceColour) {

@@ -1,5 +1,6 @@
 #pragma once
-// An RGBA8 picture (top row first), PNG encoding and contact sheets.
+// An RGBA8 picture (top row first): PNG encoding, decoding of the images models use as
+// textures, contact sheets.
 
 #include <cstdint>
 #include <filesystem>
@@ -10,6 +11,10 @@
 #include <Eigen/Core>
 
 namespace cgamesh::render {
+
+/// The largest image side: of the pictures render() draws and of the images decode_image()
+/// accepts (the common largest OpenGL texture).
+inline constexpr int kMaxImageSide = 16384;
 
 /// An 8-bit RGBA image stored row by row, top row first.
 struct Image {
@@ -35,10 +40,17 @@ struct Image {
 /// @throws InvalidInputError as encode_png(); WriteError when the file cannot be written.
 void write_png(const Image& image, const std::filesystem::path& path);
 
-/// Decodes a PNG, JPEG, BMP or TGA held in memory (stb_image) into RGBA8, top row first.
-/// @param[in] what  names the image in error messages
-/// @throws FileError when the bytes are not an image stb_image can decode.
-[[nodiscard]] Image decode_image(std::span<const std::uint8_t> bytes, const std::string& what);
+/// Decodes an image held in memory into RGBA8, top row first: a JPEG with libjpeg(-turbo), as
+/// browsers do (baseline or progressive; greyscale, YCbCr, RGB or Adobe CMYK/YCCK; damage
+/// libjpeg decodes anyway, such as stray bytes before a marker or a truncated scan, is a
+/// warning), a PNG, BMP or TGA with stb_image.
+/// @param[in] bytes     the encoded image
+/// @param[in] what      names the image in messages ("texture 'dwarf.jpg'")
+/// @param[out] warnings if not null, gets libjpeg's warnings, each starting with `what`
+/// @throws FileError when the bytes do not decode, or declare a side over kMaxImageSide (refused
+///         before the pixels are allocated).
+[[nodiscard]] Image decode_image(std::span<const std::uint8_t> bytes, const std::string& what,
+                                 std::vector<std::string>* warnings = nullptr);
 
 /// The images tiled row by row into one picture of `columns` columns, each cell the size of the
 /// largest image; empty cells are filled with `background` (RGB in [0, 1]).

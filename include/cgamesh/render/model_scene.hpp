@@ -57,6 +57,7 @@ struct ModelInstance {
 /// once per model); a mesh whose faces have several materials (Mesh::face_materials: a cut's
 /// caps, a hole's walls) is drawn as one DrawMesh per material.
 /// @param[out] warnings  if not null, what could not be shown (a texture that does not decode)
+///                       and what a texture's decoder repaired (decode_image)
 /// @throws InvalidInputError for a null model, a pose that does not fit its skeleton, or a
 ///         joint name (ColorMode::joint) that a model does not have (the message lists the joints).
 [[nodiscard]] Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOptions& options,

@@ -27,10 +27,7 @@ struct RenderOptions {
   int samples = 4;       ///< multisampling of off-screen pictures (1: none)
 };
 
-/// The largest picture side render() accepts.
-inline constexpr int kMaxImageSide = 16384;
-
-/// Checks width and height (1 … kMaxImageSide) and samples (1 … 16).
+/// Checks width and height (1 … kMaxImageSide, image.hpp) and samples (1 … 16).
 /// @throws InvalidInputError naming the problem.
 void validate(const RenderOptions& options);
 
