@@ -124,7 +124,9 @@ void run_pose(const PoseOptions& o) {
   } else {
     io::write_mesh(model.meshes, posed.positions, o.output, posed.normals);
   }
-  const std::vector<std::string> warnings = all_warnings(model, chosen.warnings);
+  std::vector<std::string> pose_warnings = chosen.warnings;
+  pose_warnings.insert(pose_warnings.end(), posed.warnings.begin(), posed.warnings.end());
+  const std::vector<std::string> warnings = all_warnings(model, pose_warnings);
   if (o.json) {
     const Json out = {{"output", o.output},
                       {"pose", chosen.report},

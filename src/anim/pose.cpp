@@ -9,6 +9,8 @@
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/errors.hpp"
 
+#include "polar.hpp"
+
 namespace cgamesh::anim {
 namespace {
 
@@ -53,9 +55,12 @@ void evaluate(const Channel& c, const Interval& iv, BlendMode mode, Transform& o
   if (c.interpolation == Interpolation::cubic_spline && iv.k0 != iv.k1) {
     // Tangents have no versor meaning: splines are always evaluated as the file says.
     const Eigen::Vector4d v = hermite(c, iv);
-    if (c.path == ChannelPath::translation) out.translation = v.head<3>();
-    else if (c.path == ChannelPath::scale) out.scale = v.head<3>();
-    else out.rotation = quat(v).normalized();
+    if (c.path == ChannelPath::translation)
+      out.translation = v.head<3>();
+    else if (c.path == ChannelPath::scale)
+      out.scale = v.head<3>();
+    else
+      out.rotation = quat(v).normalized();
     return;
   }
   const bool hold = c.interpolation == Interpolation::step || iv.k0 == iv.k1;
@@ -74,7 +79,8 @@ void evaluate(const Channel& c, const Interval& iv, BlendMode mode, Transform& o
       const cga::Rotor<double> r0 = cga::rotor(quat(v0));
       cga::Rotor<double> r1 = cga::rotor(quat(v1));
       if (cga::scalar_product(r0, cga::reverse(r1)) < 0) r1 = -r1;  // same hemisphere: the short way
-      const cga::Rotor<double> r = mode == BlendMode::linear ? cga::lerp_normalized(r0, r1, a) : cga::log_blend(r0, r1, a);
+      const cga::Rotor<double> r =
+          mode == BlendMode::linear ? cga::lerp_normalized(r0, r1, a) : cga::log_blend(r0, r1, a);
       out.rotation = cga::to_quaternion(r);
       return;
     }
@@ -96,6 +102,15 @@ void evaluate(const Channel& c, const Interval& iv, BlendMode mode, Transform& o
       return;
     }
   }
+}
+
+/// The versor T R D of affine matrix m = [L t]: R the rotation of L's polar decomposition, D its
+/// volume-keeping scale |det L|^(1/3). m itself when m is a similarity.
+cga::Versor<double> nearest_similarity(const Eigen::Matrix4d& m) {
+  Eigen::Matrix3d r, s;
+  detail::rotation_scaling(m.topLeftCorner<3, 3>(), r, s);
+  return cga::similarity(Vec3<double>(m.topRightCorner<3, 1>()), cga::rotor(Eigen::Quaterniond(r)),
+                         std::cbrt(std::abs(m.topLeftCorner<3, 3>().determinant())));
 }
 
 }  // namespace
@@ -129,8 +144,8 @@ void apply_edits(Pose& pose, std::span<const JointEdit> edits) {
   for (const JointEdit& e : edits) {
     if (e.joint < 0 || e.joint >= static_cast<int>(pose.local.size()))
       throw InvalidInputError("pose edit: joint index " + std::to_string(e.joint) + " is not in the skeleton");
-    const cga::Rotor<double> r =
-        e.angle == 0 ? cga::Rotor<double>(cga::basis_blade<double, cga::blade::scalar>()) : cga::rotor(Vec3<double>(e.axis), e.angle);
+    const cga::Rotor<double> r = e.angle == 0 ? cga::Rotor<double>(cga::basis_blade<double, cga::blade::scalar>())
+                                              : cga::rotor(Vec3<double>(e.axis), e.angle);
     const cga::Versor<double> edit = cga::similarity(Vec3<double>(e.translation), r, e.scale);
     // Matrix path: compose exactly (keeps any non-uniform rest scale of the joint).
     const Eigen::Matrix4d m = pose.local[e.joint].matrix() * Transform::from_versor(edit).matrix();
@@ -142,8 +157,21 @@ void apply_edits(Pose& pose, std::span<const JointEdit> edits) {
 std::vector<cga::Versor<double>> global_versors(const Skeleton& skeleton, const Pose& pose) {
   std::vector<cga::Versor<double>> g(pose.local_versors.size());
   const auto parents = skeleton.parents();
-  for (std::size_t j = 0; j < g.size(); ++j)
-    g[j] = parents[j] < 0 ? pose.local_versors[j] : cga::Versor<double>(g[parents[j]] * pose.local_versors[j]);
+  // At and below a non-uniform scale, composing geometric means drifts even where the global
+  // map is a similarity (a parent's stretch of its child's offset is no mean): those joints take
+  // the versor nearest their exact global matrix. Similarity rigs never build the matrices.
+  std::vector<char> stretched(g.size(), 0);
+  std::vector<Eigen::Matrix4d> exact;
+  for (std::size_t j = 0; j < g.size(); ++j) {
+    const int p = parents[j];
+    stretched[j] = !pose.local[j].is_uniform() || (p >= 0 && stretched[static_cast<std::size_t>(p)]);
+    if (!stretched[j]) {
+      g[j] = p < 0 ? pose.local_versors[j] : cga::Versor<double>(g[p] * pose.local_versors[j]);
+      continue;
+    }
+    if (exact.empty()) exact = global_matrices(skeleton, pose);
+    g[j] = nearest_similarity(exact[j]);
+  }
   return g;
 }
 

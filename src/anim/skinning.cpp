@@ -5,6 +5,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "cgamesh/anim/transform.hpp"
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/interpolation.hpp"
 #include "cgamesh/cga/point_map.hpp"
@@ -31,6 +32,22 @@ using mesh::RowMatrixXf;
 /// Global joint of palette entry k, and its inverse bind (identity for a static mesh).
 int palette_joint(const Mesh& m, std::size_t k) { return m.skin.empty() ? m.node : m.skin.palette[k]; }
 std::size_t palette_size(const Mesh& m) { return m.skin.empty() ? 1 : m.skin.palette.size(); }
+
+/// The exact map M_n B_n of palette entry k as a matrix (globals_matrix has the joint).
+Eigen::Matrix4d exact_map(const Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix, std::size_t k) {
+  const int j = palette_joint(mesh, k);
+  Eigen::Matrix4d m = j < 0 ? Eigen::Matrix4d::Identity() : globals_matrix[static_cast<std::size_t>(j)];
+  if (!mesh.skin.empty()) m = m * mesh.skin.inverse_bind[k];
+  return m;
+}
+
+/// Whether palette entry k maps by similarities: its joint's global matrix and its inverse bind,
+/// so that their versors M_n and B_n are exact (global_versors()).
+bool similarity_entry(const Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix, std::size_t k) {
+  const int j = palette_joint(mesh, k);
+  return (j < 0 || is_similarity(globals_matrix[static_cast<std::size_t>(j)])) &&
+         (mesh.skin.empty() || is_similarity(mesh.skin.inverse_bind[k]));
+}
 
 /// The dual quaternion of m's rigid part and its scale/shear part: m = [R t] [S 0] with R a
 /// rotation and S symmetric (polar decomposition; a mirror goes into S).
@@ -311,12 +328,20 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
     p.scales.reserve(n);
   }
   p.packed.reserve(17 * n);  // the largest stride (pack())
+  // cga reads the matrices too, for the entries no versor holds.
+  const std::size_t count = mode == SkinningMode::cga ? std::min(globals_cga.size(), globals_matrix.size())
+                            : uses_cga                ? globals_cga.size()
+                                                      : globals_matrix.size();
   for (std::size_t k = 0; k < n; ++k) {
     const int j = palette_joint(mesh, k);
-    const std::size_t count = uses_cga ? globals_cga.size() : globals_matrix.size();
     if (j >= static_cast<int>(count))
       throw InvalidInputError("skinning: mesh '" + mesh.name + "' uses joint " + std::to_string(j) +
                               " but the pose has " + std::to_string(count));
+    if (mode == SkinningMode::cga && !similarity_entry(mesh, globals_matrix, k)) {
+      // Non-uniform scale or shear: no versor holds M_n B_n, its exact matrix does.
+      p.affine.push_back(exact_map(mesh, globals_matrix, k).topRows<3>().cast<float>());
+      continue;
+    }
     if (uses_cga) {
       const cga::Versor<double> global =
           j < 0 ? cga::Versor<double>(cga::basis_blade<double, cga::blade::scalar>()) : globals_cga[j];
@@ -339,8 +364,7 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
         p.versors.push_back(vf);
       }
     } else {
-      Eigen::Matrix4d m = j < 0 ? Eigen::Matrix4d::Identity() : globals_matrix[j];
-      if (!mesh.skin.empty()) m = m * mesh.skin.inverse_bind[k];
+      const Eigen::Matrix4d m = exact_map(mesh, globals_matrix, k);
       if (mode == SkinningMode::matrix)
         p.affine.push_back(m.topRows<3>().cast<float>());
       else {
@@ -362,6 +386,29 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
   }
   pack(p);
   return p;
+}
+
+bool maps_by_similarities(const Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix) {
+  for (std::size_t k = 0; k < palette_size(mesh); ++k) {
+    const int j = palette_joint(mesh, k);
+    if (j >= static_cast<int>(globals_matrix.size()))
+      throw InvalidInputError("skinning: mesh '" + mesh.name + "' uses joint " + std::to_string(j) +
+                              " but the pose has " + std::to_string(globals_matrix.size()));
+    if (!similarity_entry(mesh, globals_matrix, k)) return false;
+  }
+  return true;
+}
+
+double exact_displacement(const Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix,
+                          const RowMatrixXf<3>& positions) {
+  if (positions.rows() != mesh.vertex_count())
+    throw InvalidInputError("skinning: mesh '" + mesh.name + "': " + std::to_string(positions.rows()) +
+                            " positions for " + std::to_string(mesh.vertex_count()) + " vertices");
+  const RowMatrixXf<3> exact = skin(mesh, make_palette(mesh, {}, globals_matrix, SkinningMode::matrix));
+  double worst = 0;
+  for (Eigen::Index i = 0; i < exact.rows(); ++i)
+    worst = std::max(worst, static_cast<double>((positions.row(i) - exact.row(i)).norm()));
+  return worst;
 }
 
 void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,

@@ -22,6 +22,13 @@ bool Transform::is_uniform(double tolerance) const {
   return (scale.array() - scale.x()).abs().maxCoeff() <= tolerance * m;
 }
 
+bool is_similarity(const Eigen::Matrix4d& m, double tolerance) {
+  const Eigen::Matrix3d l = m.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d g = l.transpose() * l;
+  const double s2 = g.trace() / 3;
+  return s2 > 0 && (g - s2 * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 2 * tolerance * s2;
+}
+
 cga::Versor<double> Transform::versor() const {
   return cga::similarity(cga::Vec3<double>(translation), cga::rotor(rotation), uniform_scale());
 }

@@ -42,6 +42,10 @@ using anim::Channel;
 using anim::ChannelPath;
 using anim::Transform;
 
+/// How the warnings on non-uniform scale end: what each skinning mode does with it.
+constexpr const char* kApproximated =
+    ": cga and matrix skinning keep it exactly, versor and dqs approximate it (a posed frame says by how much)";
+
 Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
   Eigen::Matrix4d e;
   e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
@@ -253,8 +257,7 @@ class Loader {
     own_mirror_.push_back(own_mirror);
     j.rest = Transform::from_matrix(local);
     if (!j.rest.is_uniform())
-      warn("node '" + j.name + "' has non-uniform scale (" + describe(j.rest.scale) +
-           "); its versor uses the geometric mean " + std::to_string(j.rest.uniform_scale()));
+      warn("node '" + j.name + "' has non-uniform scale (" + describe(j.rest.scale) + ")" + kApproximated);
     editable_.joints.push_back(std::move(j));
     by_name_.emplace(editable_.joints.back().name, index);
     for (unsigned m = 0; m < node->mNumMeshes; ++m) mesh_refs_.emplace_back(index, node->mMeshes[m]);
@@ -367,9 +370,9 @@ class Loader {
       reflected = reflect_data;
       if (reflect_data != 0) ibm = ibm * kMirror;
       const Transform t = Transform::from_matrix(ibm);
-      if (!t.is_uniform())
-        warn("inverse bind matrix of bone '" + bone_name + "' has non-uniform scale (" + describe(t.scale) +
-             "); its versor uses the geometric mean");
+      if (!anim::is_similarity(ibm))
+        warn("inverse bind matrix of bone '" + bone_name + "' has non-uniform scale or shear (" + describe(t.scale) +
+             ")" + kApproximated);
       m.skin.inverse_bind.push_back(ibm);
       m.skin.inverse_bind_versors.push_back(t.versor());
       for (unsigned w = 0; w < bone.mNumWeights; ++w) {
@@ -550,8 +553,8 @@ class Loader {
     for (double v : ch.values)
       if (!std::isfinite(v)) throw FileError("clip '" + clip.name + "' has NaN or infinite key values");
     if (non_uniform)
-      warn("clip '" + clip.name + "' scales joint '" + model_.skeleton.names()[joint] +
-           "' non-uniformly; its versors use the geometric mean");
+      warn("clip '" + clip.name + "' scales joint '" + model_.skeleton.names()[joint] + "' non-uniformly" +
+           kApproximated);
     if (!ch.times.empty()) clip.channels.push_back(std::move(ch));
   }
 

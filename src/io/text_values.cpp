@@ -39,6 +39,12 @@ std::string blend_name(BlendMode mode) {
   return "?";
 }
 
+std::string skinning_name(SkinningMode mode) {
+  for (const auto& [name, value] : kSkinningModes)
+    if (value == mode) return name;
+  return "?";
+}
+
 std::string number(double x) {
   std::ostringstream s;
   s << x;
@@ -134,14 +140,27 @@ int clip_index(const anim::RiggedModel& model, const std::string& anim) {
 
 namespace {
 
-/// Every mesh skinned in `pose`, normals too when `normals` (one pass per mesh).
-PosedFrame posed(const anim::RiggedModel& model, const anim::Pose& pose, SkinningMode mode, bool normals) {
+/// Every mesh skinned in `pose`; with `frame` the normals too (one pass per mesh) and what the
+/// mode approximated.
+PosedFrame posed(const anim::RiggedModel& model, const anim::Pose& pose, SkinningMode mode, bool frame) {
   const auto gv = anim::global_versors(model.skeleton, pose);
   const auto gm = anim::global_matrices(model.skeleton, pose);
   PosedFrame out;
-  for (const mesh::Mesh& m : model.meshes)
+  bool approximated = false;
+  for (const mesh::Mesh& m : model.meshes) {
     anim::skin_into(m, anim::make_palette(m, gv, gm, mode), out.positions.emplace_back(),
-                    normals ? &out.normals.emplace_back() : nullptr);
+                    frame ? &out.normals.emplace_back() : nullptr);
+    if (frame && (mode == SkinningMode::versor || mode == SkinningMode::dqs) && !anim::maps_by_similarities(m, gm)) {
+      approximated = true;
+      out.displacement = std::max(out.displacement, anim::exact_displacement(m, gm, out.positions.back()));
+    }
+  }
+  if (approximated) {
+    std::ostringstream text;
+    text << skinning_name(mode) << " skinning approximates the joints that scale non-uniformly or shear: in this pose "
+         << "vertices lie up to " << out.displacement << " model units from the exact skinning (cga, matrix)";
+    out.warnings.push_back(text.str());
+  }
   return out;
 }
 

@@ -21,6 +21,7 @@
 
 #include "anim/model_fixtures.hpp"
 #include "support/js_oracles.hpp"
+#include "support/non_uniform_rig.hpp"
 #include "support/temp_dir.hpp"
 #include "surgery/surgery_checks.hpp"
 #include "surgery/surgery_fixtures.hpp"
@@ -207,6 +208,26 @@ TEST(RestPosition, DrillRimLiesOnTheCylinderWhenRePosed) {
       }
     }
     EXPECT_GT(drift[surgery::RestPosition::parametric], 10 * kOnTool * m.diagonal) << path << ": the test cannot fail";
+  }
+}
+
+// On a rig with non-uniform scale keys, rest scale and inverse bind, placement and the rest
+// solve use the exact joint maps: three.js re-poses the drilled file's new vertices where the
+// drill put them.
+TEST(RestPosition, DrillOnANonUniformlyScaledRigStaysPutInThreeJs) {
+  cgamesh_test::TempDir dir;
+  const Posed m(cgamesh_test::non_uniform_simple(dir.path()), 1.0);
+  const DrillCase dc = blend_drill(m, 0.05);
+  const surgery::ModelDrill dr =
+      surgery::drill(m.model, m.placement, dc.tip, dc.base, dc.radius, {.rest = surgery::RestPosition::exact});
+  ASSERT_GT(dr.intersection_points, 0);
+  for (std::size_t k = 0; k < dr.model.meshes.size(); ++k) {
+    const NewVertices fresh = new_vertices(dr.origins[k], dr.placed[k]);
+    ASSERT_FALSE(fresh.ids.empty());
+    EXPECT_LE(worst_drift(dr.model, k, fresh, m.time), kOnTool * m.diagonal);
+    if (cgamesh_test::three_available()) {
+      EXPECT_LE(worst_drift_three_js(dr.model, k, fresh, m.time, "drilled_non_uniform"), kOnTool * m.diagonal);
+    }
   }
 }
 

@@ -50,7 +50,10 @@ struct JointEdit {
 /// @throws InvalidInputError for an unknown joint, a zero axis with non-zero angle, or scale <= 0.
 void apply_edits(Pose& pose, std::span<const JointEdit> edits);
 
-/// Global versors M_n = M_parent L_n (eq. 14 composition), one per joint.
+/// Global versors M_n = M_parent L_n (eq. 14 composition), one per joint. A joint at or below a
+/// non-uniform local scale has no versor: it gets the one nearest its exact global matrix (that
+/// matrix's polar rotation and volume-keeping scale; the matrix itself when it is a similarity),
+/// and cga skinning uses the exact matrix instead (make_palette()).
 [[nodiscard]] std::vector<cga::Versor<double>> global_versors(const Skeleton& skeleton, const Pose& pose);
 /// Global matrices (exact TRS, the matrix pipeline), one per joint.
 [[nodiscard]] std::vector<Eigen::Matrix4d> global_matrices(const Skeleton& skeleton, const Pose& pose);

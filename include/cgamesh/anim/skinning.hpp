@@ -9,6 +9,9 @@
 //   matrix - 4x4 linear blend skinning (eq. 16), the baseline.
 //   dqs    - dual-quaternion skinning, the baseline; joint scale and shear are blended linearly
 //            and applied first (Kavan et al. 2008), so scaled rigs keep their size.
+// A joint map M_n B_n that is no similarity (non-uniform scale or shear in a joint's global
+// matrix or inverse bind) has no versor: cga takes its exact matrix, so cga and matrix are exact
+// on any rig; versor and dqs approximate such rigs (exact_displacement() says by how much).
 
 #include <cstddef>
 #include <span>
@@ -85,10 +88,29 @@ struct SkinningPalette {
 
 /// Builds the palette of `mesh` for one frame. A mesh without a skin follows its node.
 /// @param[in] globals_cga     #joints global versors M_n (global_versors())
-/// @param[in] globals_matrix  #joints global matrices (global_matrices()); used by matrix/dqs
+/// @param[in] globals_matrix  #joints global matrices (global_matrices()); used by matrix/dqs,
+///                            and by cga for the entries that are no similarity
 /// @throws InvalidInputError when a palette entry names a joint outside the spans.
 [[nodiscard]] SkinningPalette make_palette(const mesh::Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
                                            std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode);
+
+/// Whether every palette entry of `mesh` maps by a similarity at this pose: the global matrices
+/// of its joints and its inverse binds have no non-uniform scale or shear (to
+/// kUniformScaleTolerance). Otherwise cga and matrix skinning stay exact, versor and dqs
+/// approximate.
+/// @param[in] globals_matrix  #joints global matrices (global_matrices())
+/// @throws InvalidInputError when a palette entry names a joint outside globals_matrix.
+[[nodiscard]] bool maps_by_similarities(const mesh::Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix);
+
+/// The largest distance, in model units, from a row of `positions` to the same vertex skinned
+/// exactly at the pose of `globals_matrix` (matrix mode; cga gives the same): how far versor or
+/// dqs skinning puts a rig that is not made of similarities (maps_by_similarities()). The blend
+/// counts too: on any rig versor and dqs blend otherwise than linearly, by design.
+/// @param[in] globals_matrix  #joints global matrices (global_matrices())
+/// @param[in] positions       #V×3 posed positions of `mesh` (skin() in any mode)
+/// @throws InvalidInputError when `positions` does not have #V rows, or as make_palette().
+[[nodiscard]] double exact_displacement(const mesh::Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix,
+                                        const mesh::RowMatrixXf<3>& positions);
 
 /// Skins vertices [begin, end) of `mesh` into the same rows of `positions` (#V×3) and, when
 /// `normals` is not null, its normals into the rows of `*normals` (#V×3; as skin_normals()):
@@ -133,7 +155,8 @@ void skin_into(const mesh::Mesh& mesh, const SkinningPalette& palette, mesh::Row
                                                 int threads = 0);
 
 /// Eq. (17) written literally, one sandwich and down-projection per vertex and influence, in
-/// double: the reference the fast modes are tested against (slow).
+/// double: the reference the fast modes are tested against (slow). Versors only: on a rig that
+/// is not made of similarities it approximates as versor skinning does.
 [[nodiscard]] mesh::RowMatrixXf<3> skin_cga_reference(const mesh::Mesh& mesh,
                                                       std::span<const cga::Versor<double>> globals_cga);
 

@@ -24,7 +24,8 @@ struct LoadOptions {
 /// child node a reader left empty is skipped, NaN normals become their faces' normals, and keys
 /// before t = 0 are replaced by the pose at 0 (cubic-spline ones: FileError). Skins keep the 4 largest influences
 /// per vertex, renormalised to sum 1; non-uniform scales in bind data or keys are kept in the
-/// TRS data and approximated by their geometric mean in the versors. Each approximation adds a
+/// TRS data and matrices (cga and matrix skinning use them exactly) and approximated in the
+/// versors (versor skinning; dqs blends them approximately too). Each approximation adds a
 /// line to RiggedModel::warnings. Mirrored nodes (negative determinant, e.g. a .x root frame
 /// swapping Y and Z) are made proper: the reflection is pushed down the tree into conjugated
 /// child transforms and keys, inverse binds and, where needed, the mesh data (reflected, with

@@ -55,6 +55,8 @@ inline constexpr double kMaxReach = 1e6;
 
 /// The name of `mode` in kBlendModes.
 [[nodiscard]] std::string blend_name(anim::BlendMode mode);
+/// The name of `mode` in kSkinningModes.
+[[nodiscard]] std::string skinning_name(anim::SkinningMode mode);
 
 /// World-space positions of every mesh in `pose`.
 [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> posed_positions(const anim::RiggedModel& model, const anim::Pose& pose,
@@ -65,12 +67,19 @@ inline constexpr double kMaxReach = 1e6;
 struct PosedFrame {
   std::vector<mesh::RowMatrixXf<3>> positions;  ///< per mesh, #V×3 posed positions
   std::vector<mesh::RowMatrixXf<3>> normals;    ///< per mesh, #V×3 unit skinned normals, or 0 rows without normals
+  /// versor and dqs on a rig whose joint maps are not all similarities (non-uniform scale or
+  /// shear, anim::maps_by_similarities()): the largest distance of a posed vertex from the exact
+  /// skinning of this pose (cga, matrix), in model units (anim::exact_displacement()); else 0.
+  double displacement = 0;
+  /// What the skinning approximated in this pose (the displacement above), for the user.
+  std::vector<std::string> warnings;
 };
 
 /// World-space positions and normals of every mesh in `pose`: the positions are
 /// posed_positions(), the normals anim::skin_normals() of the same palette (the rest normals
 /// turned by the linear part of each vertex's blended transform), so that they fit the posed
-/// surface. A mesh without normals gets 0 normal rows.
+/// surface. A mesh without normals gets 0 normal rows. In versor and dqs mode a rig whose joint
+/// maps are not all similarities is skinned once more exactly, for PosedFrame::displacement.
 /// @param[in] model  the model; a mesh's normals are #V×3 or 0 rows
 /// @param[in] pose   a pose of model.skeleton (one local transform per joint)
 /// @param[in] mode   the skinning of both positions and normals

@@ -25,7 +25,7 @@ struct Skin {
   /// #J inverse bind matrices (mesh space -> joint space at bind time), as in the file.
   std::vector<Eigen::Matrix4d> inverse_bind;
   /// #J the same as versors B_n (paper eq. 17); geometric-mean scale where a matrix has
-  /// non-uniform scale (the loader warns).
+  /// non-uniform scale (the loader warns; cga skinning then uses `inverse_bind`).
   std::vector<cga::Versor<double>> inverse_bind_versors;
 
   [[nodiscard]] bool empty() const noexcept { return palette.empty(); }
@@ -39,7 +39,7 @@ struct Mesh {
   RowMatrixXf<3> positions;  ///< #V x 3 rest (bind-pose) positions in mesh space
   RowMatrixXf<3> normals;    ///< #V x 3 unit normals, or 0 rows
   RowMatrixXf<2> uvs;        ///< #V x 2 texture coordinates (set 0; OpenGL's v = 0 at the image bottom), or 0 rows
-  Faces faces;  ///< #F x 3 vertex indices
+  Faces faces;               ///< #F x 3 vertex indices
   /// #V 1 where an operation made the vertex (a point on an old edge or face: cut, tear, drill,
   /// subdivision), 0 where it comes from the file or is a copy of such a vertex; 0 rows when
   /// no operation made any. glTF files keep it as the attribute _CGAMESH_GENERATED.
