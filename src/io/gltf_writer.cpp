@@ -463,6 +463,14 @@ class Builder {
     const std::string label = "clip " + std::to_string(index) + " ('" + clip.name + "')";
     tinygltf::Animation a;
     a.name = clip.name;
+    if (!finite(clip.duration)) invalid(label + " has a NaN or infinite duration");
+    // glTF has no clip length: a clip declared longer than its keys (an OGRE or FBX file's) ends
+    // at its last key unless its channels hold their last values up to the declared end.
+    double last_key = 0;
+    for (const Channel& ch : clip.channels)
+      if (!ch.times.empty()) last_key = std::max(last_key, ch.times.back());
+    const float end = static_cast<float>(clip.duration);
+    const float hold_to = end > static_cast<float>(last_key) ? end : 0.0f;
     std::set<std::pair<int, ChannelPath>> targets;
     for (const Channel& ch : clip.channels) {
       if (ch.times.empty()) continue;
@@ -472,7 +480,7 @@ class Builder {
       if (!targets.insert({ch.joint, ch.path}).second)
         invalid(label + " has two channels on the same path of joint '" +
                 std::string(model_.skeleton.names()[ch.joint]) + "'");
-      add_channel(a, ch, label);
+      add_channel(a, ch, label, hold_to);
     }
     if (a.channels.empty()) {
       warnings_.push_back(label + " has no keys; not written");
@@ -481,7 +489,10 @@ class Builder {
     gm_.animations.push_back(std::move(a));
   }
 
-  void add_channel(tinygltf::Animation& a, const Channel& ch, const std::string& label) {
+  /// Writes `ch`; when `hold_to` is later than its last key, with a key there that holds its
+  /// last value (for a cubic spline: zero tangents there and at the old last key, whose out-tangent
+  /// nothing used).
+  void add_channel(tinygltf::Animation& a, const Channel& ch, const std::string& label, float hold_to) {
     const std::size_t keys = ch.times.size();
     const int comps = ch.components();
     const std::string what = label + ", channel on joint '" + std::string(model_.skeleton.names()[ch.joint]) + "'";
@@ -530,8 +541,22 @@ class Builder {
       }
     }
 
+    if (hold_to > times.back()) {
+      const std::size_t n = static_cast<std::size_t>(comps), last = out.size() - out_per_key;
+      const bool cubic = interp == Interpolation::cubic_spline;
+      if (cubic) {
+        std::fill(out.begin() + static_cast<std::ptrdiff_t>(last + 2 * n), out.end(), 0.0f);
+        out.resize(out.size() + n, 0.0f);
+      }
+      for (std::size_t c = 0; c < n; ++c) {
+        const float v = out[last + (cubic ? n : 0) + c];
+        out.push_back(v);
+      }
+      if (cubic) out.resize(out.size() + n, 0.0f);
+      times.push_back(hold_to);
+    }
     tinygltf::AnimationSampler sampler;
-    sampler.input = add_float_accessor(times.data(), keys, 1, TINYGLTF_TYPE_SCALAR, 0, true);
+    sampler.input = add_float_accessor(times.data(), times.size(), 1, TINYGLTF_TYPE_SCALAR, 0, true);
     sampler.output = add_float_accessor(out.data(), out.size() / static_cast<std::size_t>(comps), comps,
                                         comps == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, 0, false);
     sampler.interpolation = interp == Interpolation::step     ? "STEP"

@@ -25,6 +25,7 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/transform.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/text_values.hpp"
 #include "cgamesh/mesh/influences.hpp"
 #include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/mesh/weld.hpp"
@@ -207,6 +208,10 @@ class Loader {
     if (model_.meshes.empty()) throw FileError(no_mesh(scene_));
     for (unsigned i = 0; i < scene_.mNumMaterials; ++i) add_material(*scene_.mMaterials[i]);
     for (unsigned a = 0; a < scene_.mNumAnimations; ++a) add_clip(*scene_.mAnimations[a], a);
+    if (unrated_clips_ > 0)
+      warn("the file gives no ticks per second for " + std::to_string(unrated_clips_) + " of " +
+           std::to_string(scene_.mNumAnimations) + " clips (the first: '" + first_unrated_ + "'); " +
+           number(options_.default_ticks_per_second) + " ticks per second assumed");
     return std::move(model_);
   }
 
@@ -508,7 +513,11 @@ class Loader {
   void add_clip(const aiAnimation& in, unsigned index) {
     anim::Clip clip;
     clip.name = in.mName.length > 0 ? name(in.mName) : "clip" + std::to_string(index);
-    const double tps = in.mTicksPerSecond > 0 ? in.mTicksPerSecond : options_.default_ticks_per_second;
+    // Assimp reports 0 when the file gives no rate (a .x file without AnimTicksPerSecond).
+    const bool rate_given = in.mTicksPerSecond > 0;
+    const double tps = rate_given ? in.mTicksPerSecond : options_.default_ticks_per_second;
+    if (!rate_given && unrated_clips_++ == 0) first_unrated_ = clip.name;
+    // The clip lasts as long as the file declares, which may be past its last key (OGRE, FBX).
     clip.duration = in.mDuration / tps;
     for (unsigned c = 0; c < in.mNumChannels; ++c) {
       const aiNodeAnim& na = *in.mChannels[c];
@@ -585,6 +594,8 @@ class Loader {
   std::vector<bool> own_mirror_;  ///< per editable node: its own matrix mirrors
   anim::RiggedModel model_;
   bool said_latin1_ = false;
+  unsigned unrated_clips_ = 0;  ///< clips whose rate the file does not give
+  std::string first_unrated_;
 };
 
 }  // namespace

@@ -111,6 +111,22 @@ TEST(CliDefaultPose, TimePastTheEndOrWithoutAClipWarns) {
   EXPECT_TRUE(has_warning(parse_json(cut), "past the end of clip")) << cut;
 }
 
+// A clip declared longer than its keys (the FBX declares 5 s, its keys end at 2.083 s) lasts as
+// declared, also once converted to glTF: posing inside it is no "past the end" (issue #33, item 5).
+TEST(CliDefaultPose, TimeInsideADeclaredLengthDoesNotWarnAfterConvert) {
+  TempDir dir;
+  const fs::path fbx = cgamesh_test::asset("rigged_simple_5s.fbx"), glb = dir / "converted.glb";
+  run_ok(dir, {"convert", fbx.string(), "-o", glb.string()});
+  for (const fs::path& model : {fbx, glb}) {
+    const Result r = run_ok(dir, {"pose", model.string(), "--time", "2.5", "-o", (dir / "p.obj").string(), "--json"});
+    EXPECT_FALSE(has_warning(parse_json(r), "past the end")) << r;
+    const Json info = parse_json(run_ok(dir, {"info", model.string(), "--json"}));
+    EXPECT_NEAR(info["animations"][0]["duration"].get<double>(), 5.0, 1e-6) << model;
+  }
+  const Result late = run_ok(dir, {"pose", glb.string(), "--time", "5.5", "-o", (dir / "p.obj").string(), "--json"});
+  EXPECT_TRUE(has_warning(parse_json(late), "past the end of clip")) << late;
+}
+
 // ---- item 9: a rig you can discover -----------------------------------------------------------
 
 TEST(CliInfo, ListsTheJointHierarchyBoxesAndClips) {

@@ -324,7 +324,7 @@ TEST(FfdSpec, ErrorsNameTheField) {
       {R"({"method": "ffd", "handles": [[[0, 0, 2]]], "keys": [{}]})", "spec.handles[0]: "},
       {R"({"method": "ffd", "handles": [[0, 1]], "keys": [{}]})", "spec.handles[0]: "},
       {R"({"method": "ffd", "handles": [[]], "keys": [{}]})", "spec.handles[0]: "},
-      {R"({"method": "ffd", "handles": [{"box": [1e6, 1e6, 1e6, 2e6, 2e6, 2e6]}], "keys": [{}]})", "spec.handles[0]: "},
+      {R"({"method": "ffd", "handles": [{"box": [1e6, 1e6, 1e6, 2e6, 2e6, 2e6]}], "keys": [{}]})", "spec.handles[0].box: "},
       {R"({"method": "ffd", "handles": [[[0, 0, 0]]], "keys": [{}, {}]})", "spec.keys: "},
       {R"({"method": "ffd", "handles": [[[0, 0, 0]]], "keys": [{"rotate": [0, 0, 0, 1]}]})", "spec.keys[0].rotate: "},
       {R"({"method": "ffd", "basis": "bspline", )" + handles + "}", "spec.basis: "},

@@ -528,6 +528,43 @@ TEST(GltfWriter, ReloadedClipKeepsStepAndCubicInterpolation) {
   }
 }
 
+// glTF has no clip length: a clip declared longer than its keys (as OGRE and FBX files declare
+// them) is written with keys at its end holding each channel's last value, so that the reloaded
+// clip is as long and plays as the original everywhere, LINEAR, STEP and CUBICSPLINE alike (the
+// cubic channel's new last segment has zero tangents: it holds, not overshoots).
+TEST(GltfWriter, ClipLongerThanItsKeysHoldsItsLastValuesToItsEnd) {
+  TempDir dir;
+  RiggedModel model = make_model();
+  model.clips[0].duration = 3;  // "wave": keys up to t = 1
+  // The cubic channel's last out-tangent, which nothing uses before the clip is lengthened.
+  Channel& cubic = model.clips[0].channels[3];
+  ASSERT_EQ(cubic.interpolation, Interpolation::cubic_spline);
+  cubic.values[cubic.values.size() - 4] = 0.5;
+  (void)write_gltf(model, dir.path() / "long.glb");
+  const tinygltf::Model g = load(dir.path() / "long.glb");
+  ASSERT_EQ(g.animations[0].name, "wave");
+  for (const tinygltf::AnimationSampler& s : g.animations[0].samplers)
+    EXPECT_EQ(g.accessors[static_cast<std::size_t>(s.input)].maxValues.at(0), 3.0) << s.interpolation;
+  for (const tinygltf::AnimationSampler& s : g.animations[1].samplers)  // "idle" ends at its last key
+    EXPECT_EQ(g.accessors[static_cast<std::size_t>(s.input)].maxValues.at(0), 2.0);
+  const RiggedModel back = cgamesh::io::load_model(dir.path() / "long.glb");
+  const cgamesh::anim::Clip& wave = back.clips.at(0);
+  EXPECT_EQ(wave.duration, 3.0);
+  EXPECT_EQ(back.clips.at(1).duration, 2.0);
+  for (double t = 0; t <= 3.0; t += 1.0 / 16) {
+    const auto a = cgamesh::anim::sample(model.skeleton, model.clips[0], t, cgamesh::anim::BlendMode::format);
+    const auto b = cgamesh::anim::sample(back.skeleton, wave, t, cgamesh::anim::BlendMode::format);
+    for (int j = 0; j < model.skeleton.size(); ++j) {
+      const int k = back.skeleton.find(model.skeleton.names()[static_cast<std::size_t>(j)]);
+      ASSERT_GE(k, 0);
+      const auto &x = a.local[static_cast<std::size_t>(j)], &y = b.local[static_cast<std::size_t>(k)];
+      EXPECT_LT((x.translation - y.translation).norm(), 1e-6) << "t=" << t << " joint " << j;
+      EXPECT_LT(x.rotation.angularDistance(y.rotation), 1e-5) << "t=" << t << " joint " << j;
+      EXPECT_LT((x.scale - y.scale).norm(), 1e-6) << "t=" << t << " joint " << j;
+    }
+  }
+}
+
 TEST(GltfWriter, GltfWithSeparateBinRoundTrip) {
   TempDir dir;
   const RiggedModel model = make_model();

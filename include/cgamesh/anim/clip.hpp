@@ -16,7 +16,7 @@ struct Channel {
   int joint = -1;  ///< skeleton joint index
   ChannelPath path = ChannelPath::translation;
   Interpolation interpolation = Interpolation::linear;
-  std::vector<double> times;   ///< #K strictly increasing seconds
+  std::vector<double> times;  ///< #K strictly increasing seconds
   /// Flat key values: 3 per key (x y z) for translation/scale, 4 (x y z w) for rotation; for
   /// cubic_spline each key holds in-tangent, value, out-tangent in that order (glTF layout).
   std::vector<double> values;
@@ -26,7 +26,9 @@ struct Channel {
 
 struct Clip {
   std::string name;
-  double duration = 0;  ///< seconds; the largest key time
+  /// Seconds: the length the file declares or, when longer, the largest key time. Past a
+  /// channel's last key its last value holds (the glTF writer keys that hold to the end).
+  double duration = 0;
   std::vector<Channel> channels;
 };
 

@@ -9,7 +9,8 @@
 namespace cgamesh::io {
 
 struct LoadOptions {
-  /// Ticks per second for files that do not say (Assimp reports 0).
+  /// Ticks per second for clips whose file does not say (Assimp reports 0; a .x file without
+  /// AnimTicksPerSecond): the loader warns naming the rate assumed.
   double default_ticks_per_second = 25.0;
 };
 
@@ -26,12 +27,14 @@ struct LoadOptions {
 /// per vertex, renormalised to sum 1; non-uniform scales in bind data or keys are kept in the
 /// TRS data and matrices (cga and matrix skinning use them exactly) and approximated in the
 /// versors (versor skinning; dqs blends them approximately too). Each approximation adds a
-/// line to RiggedModel::warnings. Mirrored nodes (negative determinant, e.g. a .x root frame
-/// swapping Y and Z) are made proper: the reflection is pushed down the tree into conjugated
-/// child transforms and keys, inverse binds and, where needed, the mesh data (reflected, with
-/// triangle winding reversed), so world positions are the file's and every versor is even.
-/// Only a mirrored node that a clip rotates or scales, or a mesh bound to joints on both sides
-/// of a mirror, cannot be represented: FileError naming the node or mesh.
+/// line to RiggedModel::warnings, as does a clip read at LoadOptions::default_ticks_per_second.
+/// A clip lasts as long as its file declares (Clip::duration), even past its last key. Mirrored
+/// nodes (negative determinant, e.g. a .x root frame swapping Y and Z) are made proper: the
+/// reflection is pushed down the tree into conjugated child transforms and keys, inverse binds
+/// and, where needed, the mesh data (reflected, with triangle winding reversed unless the file
+/// wound it for the mirror), so world positions are the file's and every versor is even. Only a
+/// mirrored node that a clip rotates or scales, or a mesh bound to joints on both sides of a
+/// mirror, cannot be represented: FileError naming the node or mesh.
 /// @param[in] path  model file
 /// @throws FileError when the file is missing, unreadable, corrupt (also as found by the checks
 ///         above, naming the line), or holds no triangle mesh.
