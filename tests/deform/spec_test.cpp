@@ -197,16 +197,19 @@ TEST(DeformSpecBind, KeysChangeBetweenFrames) {
   EXPECT_LT(max_difference(bound.apply(identity), model.meshes[0].positions), 1e-6);
 }
 
+/// What binding the spec `text` to `model` throws (InvalidInputError), or "(no error)".
+std::string bind_error(const std::string& text, const anim::RiggedModel& model) {
+  try {
+    (void)BoundDeformer(parse_spec(text, "inline"), model);
+  } catch (const InvalidInputError& e) {
+    return std::string(e.what());
+  }
+  return std::string("(no error)");
+}
+
 TEST(DeformSpecBind, MeshErrorsNameTheField) {
   const anim::RiggedModel model = model_of(cylinder(12, 5));
-  const auto message = [&](const std::string& text) {
-    try {
-      (void)BoundDeformer(parse_spec(text, "inline"), model);
-    } catch (const InvalidInputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
+  const auto message = [&](const std::string& text) { return bind_error(text, model); };
   EXPECT_NE(message(R"({"method": "harmonic", "mesh": 1, "handles": [[0]], "keys": [{}]})").find("spec.mesh: "),
             std::string::npos);
   // Counts the method or basis cannot take, named after the selections (as the CLI always did).
@@ -234,14 +237,7 @@ TEST(DeformSpecBind, MeshErrorsNameTheField) {
 // edits: no farther than io::kMaxReach (10^6) mesh sizes (an IK target of 1e308 was accepted).
 TEST(DeformSpecBind, EveryPointIsWithinReachOfTheMesh) {
   const anim::RiggedModel model = model_of(cylinder(12, 5));
-  const auto message = [&](const std::string& text) {
-    try {
-      (void)BoundDeformer(parse_spec(text, "inline"), model);
-    } catch (const InvalidInputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
+  const auto message = [&](const std::string& text) { return bind_error(text, model); };
   const std::string far = "1e308", two = R"("basis": "linear", "handles": [[0], [1]], )";
   const std::pair<std::string, std::string> cases[] = {
       {R"({"method": "spline", )" + two + R"("ik": {"joints": [[0, 0, 0], [0, 0, 1]], "target": [0, 0, )" + far + "]}}",
