@@ -2,10 +2,9 @@
 BUILD      ?= build
 SAN_BUILD  ?= build-sanitize
 BENCH_BUILD ?= build-release
-MARCH_BUILD ?= build-march
 JOBS       ?= $(shell nproc)
 
-.PHONY: all deps build python test sanitize march demo bench format clean
+.PHONY: all deps build python test sanitize demo bench format clean
 
 all: build
 
@@ -34,13 +33,6 @@ sanitize: deps
 	cmake --build $(SAN_BUILD) -j $(JOBS)
 	ctest --test-dir $(SAN_BUILD) --output-on-failure -j $(JOBS)
 
-# The library as a user builds it with their own -march (here AVX-512 as the baseline, under the
-# kernels dispatched at run time to AVX2 and AVX-512): it must compile. Only the library target.
-march: deps
-	cmake -S . -B $(MARCH_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS=-march=x86-64-v4 \
-	  -DCGAMESH_BUILD_TESTS=OFF -DCGAMESH_BUILD_BENCH=OFF -DCGAMESH_BUILD_VIEWER=OFF -DCGAMESH_BUILD_PYTHON=OFF
-	cmake --build $(MARCH_BUILD) -j $(JOBS) --target cgamesh
-
 demo: build
 	bash scripts/demo.sh $(BUILD)/apps/cli/cgamesh
 
@@ -55,4 +47,4 @@ format:
 	find include src apps tests bench -name '*.hpp' -o -name '*.cpp' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD) $(SAN_BUILD) $(BENCH_BUILD) $(MARCH_BUILD)
+	rm -rf $(BUILD) $(SAN_BUILD) $(BENCH_BUILD)

@@ -56,6 +56,8 @@ void run_info(const InfoOptions& o) {
     std::cout << "    " << i << " " << m.name << ": " << m.vertex_count() << " vertices, " << m.face_count()
               << " triangles"
               << (m.skin.empty() ? std::string() : ", skinned to " + std::to_string(m.skin.palette.size()) + " joints")
+              << (m.morph_targets.empty() ? std::string()
+                                          : ", " + std::to_string(m.morph_targets.size()) + " morph targets")
               << "\n      box " << info.meshes[i].box << "\n      mesh-space box " << info.meshes[i].box_mesh_space
               << "\n";
   }
@@ -75,8 +77,11 @@ void run_info(const InfoOptions& o) {
   };
   for (const int r : roots) print(print, r, 0);
   std::cout << "  animations: " << model.clips.size() << "\n";
-  for (std::size_t c = 0; c < model.clips.size(); ++c)
-    std::cout << "    " << c << " " << model.clips[c].name << ": " << model.clips[c].duration << " s\n";
+  for (std::size_t c = 0; c < model.clips.size(); ++c) {
+    const long morphs = io::morph_weight_channels(model.clips[c]);
+    std::cout << "    " << c << " " << model.clips[c].name << ": " << model.clips[c].duration << " s"
+              << (morphs > 0 ? ", animates morph weights" : "") << "\n";
+  }
   std::cout << "  max influences per vertex: " << model.source_max_influences << "\n  bounding box: " << info.box
             << "\n";
   for (const auto& w : model.warnings) std::cout << "  warning: " << w << "\n";

@@ -50,6 +50,30 @@ Eigen::Vector4d hermite(const Channel& c, const Interval& iv) {
          (-2 * t3 + 3 * t2) * key(c, iv.k1) + (t3 - t2) * iv.dt * key(c, iv.k1, 0);
 }
 
+/// Component i of key k's block (cubic splines: 0 in-tangent, 1 value, 2 out-tangent).
+double key_component(const Channel& c, std::size_t k, int block, int i) {
+  const auto n = static_cast<std::size_t>(c.components());
+  return c.interpolation == Interpolation::cubic_spline ? c.values[(3 * k + static_cast<std::size_t>(block)) * n + i]
+                                                        : c.values[k * n + static_cast<std::size_t>(i)];
+}
+
+/// The morph weights of a weights channel at the interval, as the file says to interpolate them
+/// (weights are plain numbers: every blend mode lerps them, as glTF does).
+void evaluate_weights(const Channel& c, const Interval& iv, std::vector<float>& out) {
+  const int n = c.components();
+  out.resize(static_cast<std::size_t>(n));
+  const bool hold = c.interpolation == Interpolation::step || iv.k0 == iv.k1;
+  const double t = hold ? 0.0 : iv.alpha, t2 = t * t, t3 = t2 * t;
+  for (int i = 0; i < n; ++i) {
+    const double v0 = key_component(c, iv.k0, 1, i), v1 = key_component(c, iv.k1, 1, i);
+    double v = (1 - t) * v0 + t * v1;
+    if (c.interpolation == Interpolation::cubic_spline && !hold)
+      v = (2 * t3 - 3 * t2 + 1) * v0 + (t3 - 2 * t2 + t) * iv.dt * key_component(c, iv.k0, 2, i) +
+          (-2 * t3 + 3 * t2) * v1 + (t3 - t2) * iv.dt * key_component(c, iv.k1, 0, i);
+    out[static_cast<std::size_t>(i)] = static_cast<float>(v);
+  }
+}
+
 /// Translation, rotation or scale of one channel at the interval, blended in `mode`.
 void evaluate(const Channel& c, const Interval& iv, BlendMode mode, Transform& out) {
   if (c.interpolation == Interpolation::cubic_spline && iv.k0 != iv.k1) {
@@ -84,6 +108,8 @@ void evaluate(const Channel& c, const Interval& iv, BlendMode mode, Transform& o
       out.rotation = cga::to_quaternion(r);
       return;
     }
+    case ChannelPath::weights:
+      return;  // evaluate_weights()
     case ChannelPath::scale: {
       if (mode == BlendMode::format) {
         out.scale = (1 - a) * v0.head<3>() + a * v1.head<3>();
@@ -132,6 +158,16 @@ Pose sample(const Skeleton& skeleton, const Clip& clip, double time, BlendMode m
       throw InvalidInputError("sample: clip '" + clip.name + "' drives joint " + std::to_string(c.joint) +
                               " outside the skeleton");
     if (c.times.empty()) continue;
+    if (c.path == ChannelPath::weights) {
+      const std::size_t blocks = c.interpolation == Interpolation::cubic_spline ? 3 : 1;
+      if (c.weight_count <= 0 || c.values.size() != c.times.size() * blocks * static_cast<std::size_t>(c.weight_count))
+        throw InvalidInputError("sample: clip '" + clip.name + "' has a weights channel of " +
+                                std::to_string(c.weight_count) + " weights and " + std::to_string(c.values.size()) +
+                                " values");
+      p.morph_weights.resize(static_cast<std::size_t>(skeleton.size()));
+      evaluate_weights(c, locate(c.times, t), p.morph_weights[static_cast<std::size_t>(c.joint)]);
+      continue;
+    }
     evaluate(c, locate(c.times, t), mode, p.local[c.joint]);
     touched[c.joint] = true;
   }

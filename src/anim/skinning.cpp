@@ -5,6 +5,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/anim/transform.hpp"
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/interpolation.hpp"
@@ -315,9 +316,14 @@ bool kernel_available(SkinningKernel kernel) noexcept {
 }
 
 SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
-                             std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode) {
+                             std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode,
+                             std::span<const float> morph_weights) {
   SkinningPalette p;
   p.mode = mode;
+  if (morphs(morph_weights)) {
+    check_morph_weights(mesh, morph_weights);
+    p.morph_weights.assign(morph_weights.begin(), morph_weights.end());
+  }
   const std::size_t n = palette_size(mesh);
   const bool uses_cga = mode == SkinningMode::cga || mode == SkinningMode::versor;
   // Built every frame: one allocation per array, not a growth sequence.
@@ -400,19 +406,23 @@ bool maps_by_similarities(const Mesh& mesh, std::span<const Eigen::Matrix4d> glo
 }
 
 double exact_displacement(const Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix,
-                          const RowMatrixXf<3>& positions) {
+                          const RowMatrixXf<3>& positions, std::span<const float> morph_weights) {
   if (positions.rows() != mesh.vertex_count())
     throw InvalidInputError("skinning: mesh '" + mesh.name + "': " + std::to_string(positions.rows()) +
                             " positions for " + std::to_string(mesh.vertex_count()) + " vertices");
-  const RowMatrixXf<3> exact = skin(mesh, make_palette(mesh, {}, globals_matrix, SkinningMode::matrix));
+  const RowMatrixXf<3> exact = skin(mesh, make_palette(mesh, {}, globals_matrix, SkinningMode::matrix, morph_weights));
   double worst = 0;
   for (Eigen::Index i = 0; i < exact.rows(); ++i)
     worst = std::max(worst, static_cast<double>((positions.row(i) - exact.row(i)).norm()));
   return worst;
 }
 
-void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
-                RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel, SkinningStores stores) {
+namespace {
+
+/// skin_range() of a mesh whose morph targets are applied already (or unused).
+void skin_unmorphed_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
+                          RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel,
+                          SkinningStores stores) {
   kernel = resolve(kernel);
   normals = normals && mesh.normals.rows() > 0 ? normals : nullptr;
   validate(mesh, p, begin, end, positions, normals);
@@ -438,6 +448,16 @@ void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, 
   if (normals) skin_normal_rows(mesh, p, begin, end, *normals);
 }
 
+}  // namespace
+
+void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
+                RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel, SkinningStores stores) {
+  if (p.morph_weights.empty())
+    skin_unmorphed_range(mesh, p, begin, end, positions, normals, kernel, stores);
+  else
+    skin_unmorphed_range(morphed(mesh, p.morph_weights), p, begin, end, positions, normals, kernel, stores);
+}
+
 Eigen::Matrix<double, 3, 4> blended_affine(const Mesh& mesh, const SkinningPalette& palette, Eigen::Index i) {
   Eigen::Matrix<double, 3, 4> a = Eigen::Matrix<double, 3, 4>::Zero();
   for_each_influence(mesh, i, [&](int k, float w) { a += static_cast<double>(w) * palette.affine[k].cast<double>(); });
@@ -452,8 +472,11 @@ void skin_into(const Mesh& mesh, const SkinningPalette& palette, RowMatrixXf<3>&
   const SkinningKernel kernel = resolve(options.kernel);
   if (positions.rows() != mesh.vertex_count()) positions.resize(mesh.vertex_count(), 3);
   if (normals && normals->rows() != mesh.normals.rows()) normals->resize(mesh.normals.rows(), 3);
+  // The morphed rest mesh is made once for all jobs.
+  const Mesh morphed_mesh = palette.morph_weights.empty() ? Mesh() : morphed(mesh, palette.morph_weights);
+  const Mesh& rest = palette.morph_weights.empty() ? mesh : morphed_mesh;
   detail::parallel_for(mesh.vertex_count(), options.threads, [&](Eigen::Index begin, Eigen::Index end) {
-    skin_range(mesh, palette, begin, end, positions, normals, kernel, options.stores);
+    skin_unmorphed_range(rest, palette, begin, end, positions, normals, kernel, options.stores);
   });
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <optional>
+#include <span>
 
 #include <tiny_gltf.h>
 
@@ -90,7 +91,8 @@ std::optional<ChannelPath> channel_path(const std::string& path) {
   if (path == "translation") return ChannelPath::translation;
   if (path == "rotation") return ChannelPath::rotation;
   if (path == "scale") return ChannelPath::scale;
-  return std::nullopt;  // morph-target weights
+  if (path == "weights") return ChannelPath::weights;
+  return std::nullopt;  // an extension's path
 }
 
 Interpolation interpolation(const std::string& name, const std::string& what) {
@@ -107,10 +109,18 @@ void read_sampler(const tinygltf::Model& model, const tinygltf::AnimationSampler
   ch.interpolation = interpolation(sampler.interpolation, what);
   const AccessorView input(model, sampler.input, what + " input");
   const AccessorView output(model, sampler.output, what + " output");
-  const int n = ch.components();
   const std::size_t blocks = ch.interpolation == Interpolation::cubic_spline ? 3 : 1;
-  if (input.components() != 1 || output.components() != n || output.count() != blocks * input.count())
-    throw FileError(what + ": sampler input and output do not match");
+  // Weights: a SCALAR output of #targets values per key (and per block).
+  if (ch.path == ChannelPath::weights && output.components() == 1 && input.count() > 0)
+    ch.weight_count = static_cast<int>(output.count() / (blocks * input.count()));
+  const int n = ch.components();
+  const bool matches =
+      ch.path == ChannelPath::weights
+          ? n > 0 && output.components() == 1 && output.count() == blocks * input.count() * static_cast<std::size_t>(n)
+          : output.components() == n && output.count() == blocks * input.count();
+  if (input.components() != 1 || !matches) throw FileError(what + ": sampler input and output do not match");
+  // A weights key is n scalar elements; a TRS key one element of n components.
+  const std::size_t per_element = ch.path == ChannelPath::weights ? static_cast<std::size_t>(n) : 1;
   for (std::size_t k = 0; k < input.count(); ++k) {
     const double t = input.get(k, 0);
     if (!std::isfinite(t)) throw FileError(what + " has a NaN key time");
@@ -118,7 +128,8 @@ void read_sampler(const tinygltf::Model& model, const tinygltf::AnimationSampler
     ch.times.push_back(t);
     for (std::size_t b = 0; b < blocks; ++b)
       for (int c = 0; c < n; ++c) {
-        const double v = output.get(k * blocks + b, c);
+        const double v = per_element == 1 ? output.get(k * blocks + b, c)
+                                          : output.get((k * blocks + b) * per_element + static_cast<std::size_t>(c), 0);
         if (!std::isfinite(v)) throw FileError(what + " has NaN or infinite key values");
         ch.values.push_back(v);
       }
@@ -127,9 +138,10 @@ void read_sampler(const tinygltf::Model& model, const tinygltf::AnimationSampler
 
 /// The clips of the file, channels bound to `skeleton` joints by node name (or Assimp's
 /// "nodes[i]" for unnamed nodes), with times, values and interpolation as the file stores them
-/// (cubic splines keep their in/out tangents). Morph-target weight channels are skipped.
+/// (cubic splines keep their in/out tangents). A morph-weights channel is kept when the meshes on
+/// its node have as many targets as it has weights.
 std::vector<anim::Clip> read_gltf_clips(const tinygltf::Model& model, const anim::Skeleton& skeleton,
-                                        std::vector<std::string>& warnings) {
+                                        std::span<const mesh::Mesh> meshes, std::vector<std::string>& warnings) {
   std::vector<anim::Clip> clips;
   for (std::size_t a = 0; a < model.animations.size(); ++a) {
     const tinygltf::Animation& in = model.animations[a];
@@ -156,6 +168,13 @@ std::vector<anim::Clip> read_gltf_clips(const tinygltf::Model& model, const anim
         throw FileError(what + " has no sampler");
       read_sampler(model, in.samplers[static_cast<std::size_t>(target.sampler)], ch, what);
       if (ch.times.empty()) continue;
+      if (ch.path == ChannelPath::weights && std::none_of(meshes.begin(), meshes.end(), [&](const mesh::Mesh& m) {
+            return m.node == ch.joint && m.morph_targets.size() == static_cast<std::size_t>(ch.weight_count);
+          })) {
+        warnings.push_back(what + " animates " + std::to_string(ch.weight_count) + " morph weights of node '" + name +
+                           "', which has no mesh with that many morph targets; ignored");
+        continue;
+      }
       clip.duration = std::max(clip.duration, ch.times.back());
       clip.channels.push_back(std::move(ch));
     }
@@ -185,6 +204,18 @@ void read_generated(const tinygltf::Model& file, mesh::Mesh& m) {
     }
 }
 
+/// A node's weights override its mesh's (glTF 2.0 §3.7.2.2), which Assimp reads alone.
+void read_node_weights(const tinygltf::Model& file, anim::RiggedModel& model) {
+  for (std::size_t n = 0; n < file.nodes.size(); ++n) {
+    const tinygltf::Node& node = file.nodes[n];
+    if (node.weights.empty()) continue;
+    const int joint = model.skeleton.find(node.name.empty() ? "nodes[" + std::to_string(n) + "]" : node.name);
+    for (mesh::Mesh& m : model.meshes)
+      if (m.node == joint && joint >= 0 && m.morph_targets.size() == node.weights.size())
+        m.morph_weights.assign(node.weights.begin(), node.weights.end());
+  }
+}
+
 }  // namespace
 
 bool is_gltf(const std::filesystem::path& path) {
@@ -207,12 +238,13 @@ void read_gltf_extras(const std::filesystem::path& path, anim::RiggedModel& mode
     return;
   }
   std::vector<std::string> warnings;
-  std::vector<anim::Clip> clips = read_gltf_clips(file, model.skeleton, warnings);
+  std::vector<anim::Clip> clips = read_gltf_clips(file, model.skeleton, model.meshes, warnings);
   if (clips.size() != model.clips.size())
     warnings.push_back("the glTF animations did not match Assimp's; keys load as LINEAR");
   else
     model.clips = std::move(clips);
   for (mesh::Mesh& m : model.meshes) read_generated(file, m);
+  read_node_weights(file, model);
   model.warnings.insert(model.warnings.end(), warnings.begin(), warnings.end());
 }
 

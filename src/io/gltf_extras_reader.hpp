@@ -1,7 +1,7 @@
 #pragma once
 // Private to the I/O module: what Assimp drops from a glTF file, read with tinygltf — the
 // animations' sampler interpolation (Assimp loads STEP and CUBICSPLINE keys as if LINEAR) and
-// the vertex attribute _CGAMESH_GENERATED (Mesh::generated).
+// the vertex attribute _CGAMESH_GENERATED (Mesh::generated), morph-weight channels and node weights.
 
 #include <filesystem>
 #include <string>

@@ -237,6 +237,7 @@ class Builder {
     }
     int skin = -1;
     if (!m.skin.empty()) skin = add_skin(m, prim, label);
+    if (!m.morph_targets.empty()) add_morph_targets(m, prim, label);
 
     // One primitive per material, in order of first use, all over the same vertex accessors.
     std::vector<int> materials;
@@ -252,6 +253,15 @@ class Builder {
     }
     tinygltf::Mesh gmesh;
     gmesh.name = m.name;
+    gmesh.weights.assign(m.morph_weights.begin(), m.morph_weights.end());
+    if (std::any_of(m.morph_targets.begin(), m.morph_targets.end(), [](const auto& t) { return !t.name.empty(); })) {
+      // The de-facto convention (Blender, three.js, Babylon): names in mesh.extras.targetNames.
+      tinygltf::Value::Array names;
+      for (const mesh::MorphTarget& t : m.morph_targets) names.emplace_back(t.name);
+      tinygltf::Value::Object extras;
+      extras["targetNames"] = tinygltf::Value(std::move(names));
+      gmesh.extras = tinygltf::Value(std::move(extras));
+    }
     for (std::size_t g = 0; g < materials.size(); ++g) {
       tinygltf::Primitive p = prim;
       p.material = material_of(materials[g]);
@@ -265,6 +275,7 @@ class Builder {
     if (m.node >= 0 && m.node < skeleton_size() && gm_.nodes[static_cast<std::size_t>(m.node)].mesh < 0) {
       gm_.nodes[static_cast<std::size_t>(m.node)].mesh = mesh_index;
       gm_.nodes[static_cast<std::size_t>(m.node)].skin = skin;
+      if (!m.morph_targets.empty()) morph_nodes_[m.node].push_back({m.node, m.morph_targets.size()});
       return;
     }
     tinygltf::Node node;
@@ -273,6 +284,7 @@ class Builder {
     node.skin = skin;
     gm_.nodes.push_back(std::move(node));
     const int node_index = static_cast<int>(gm_.nodes.size()) - 1;
+    if (!m.morph_targets.empty()) morph_nodes_[m.node].push_back({node_index, m.morph_targets.size()});
     if (skin >= 0 || m.node == -1) {
       mesh_roots_.push_back(node_index);
     } else {
@@ -284,6 +296,66 @@ class Builder {
       auto& children = gm_.nodes[m.node].children;
       children.insert(children.begin() + static_children_[m.node]++, node_index);
     }
+  }
+
+  /// The morph targets of `m` on `prim`: displacements of POSITION (and NORMAL).
+  void add_morph_targets(const mesh::Mesh& m, tinygltf::Primitive& prim, const std::string& label) {
+    const Eigen::Index nv = m.vertex_count();
+    if (m.morph_weights.size() != m.morph_targets.size())
+      invalid(label + " has " + std::to_string(m.morph_weights.size()) + " morph weights for " +
+              std::to_string(m.morph_targets.size()) + " morph targets");
+    for (const float w : m.morph_weights)
+      if (!finite(w)) invalid(label + " has a NaN or infinite morph weight");
+    for (const mesh::MorphTarget& t : m.morph_targets) {
+      const std::string what = label + ", morph target '" + t.name + "'";
+      if (t.positions.rows() != nv || (t.normals.rows() != 0 && t.normals.rows() != nv))
+        invalid(what + " does not have a row per vertex");
+      if (!t.positions.allFinite() || !t.normals.allFinite()) invalid(what + " has NaN or infinite displacements");
+      std::map<std::string, int> target;
+      target["POSITION"] = add_displacements(t.positions, true);
+      if (t.normals.rows() == nv && m.normals.rows() == nv) target["NORMAL"] = add_displacements(t.normals, false);
+      prim.targets.push_back(std::move(target));
+    }
+  }
+
+  /// A VEC3 accessor of #V displacements: sparse (the rows that move, by index) where that is
+  /// smaller than every row (an index and a row against a row), with no data where none moves.
+  int add_displacements(const mesh::RowMatrixXf<3>& d, bool bounds) {
+    const auto nv = static_cast<std::size_t>(d.rows());
+    std::vector<std::uint32_t> moved;
+    for (Eigen::Index v = 0; v < d.rows(); ++v)
+      if ((d.row(v).array() != 0).any()) moved.push_back(static_cast<std::uint32_t>(v));
+    if (moved.size() * 16 >= nv * 12)
+      return add_float_accessor(d.data(), nv, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, bounds);
+    std::vector<double> mn, mx;
+    if (bounds) {
+      // The rows that do not move are zeros, and there are some.
+      mn.assign(3, 0.0);
+      mx.assign(3, 0.0);
+      for (const std::uint32_t v : moved)
+        for (int c = 0; c < 3; ++c) {
+          mn[static_cast<std::size_t>(c)] = std::min(mn[static_cast<std::size_t>(c)], static_cast<double>(d(v, c)));
+          mx[static_cast<std::size_t>(c)] = std::max(mx[static_cast<std::size_t>(c)], static_cast<double>(d(v, c)));
+        }
+    }
+    const int accessor = add_accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv, mn, mx);
+    if (moved.empty()) return accessor;
+    std::size_t begin = begin_view();
+    for (const std::uint32_t v : moved) put_u32(v);
+    const int indices = end_view(begin, 0, 0);
+    begin = begin_view();
+    for (const std::uint32_t v : moved)
+      for (int c = 0; c < 3; ++c) put_f32(d(v, c));
+    const int values = end_view(begin, 0, 0);
+    tinygltf::Accessor& a = gm_.accessors[static_cast<std::size_t>(accessor)];
+    a.sparse.isSparse = true;
+    a.sparse.count = static_cast<int>(moved.size());
+    a.sparse.indices.bufferView = indices;
+    a.sparse.indices.byteOffset = 0;
+    a.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    a.sparse.values.bufferView = values;
+    a.sparse.values.byteOffset = 0;
+    return accessor;
   }
 
   // ---- materials ----------------------------------------------------------------------------
@@ -496,6 +568,18 @@ class Builder {
     const std::size_t keys = ch.times.size();
     const int comps = ch.components();
     const std::string what = label + ", channel on joint '" + std::string(model_.skeleton.names()[ch.joint]) + "'";
+    // Weights drive the nodes that hold the joint's meshes with as many targets (one sampler for all).
+    std::vector<int> nodes{ch.joint};
+    if (ch.path == ChannelPath::weights) {
+      nodes.clear();
+      for (const auto& [node, targets] : morph_nodes_[ch.joint])
+        if (targets == static_cast<std::size_t>(comps)) nodes.push_back(node);
+      if (nodes.empty()) {
+        warnings_.push_back(what + " animates " + std::to_string(comps) +
+                            " morph weights, but no mesh there has that many targets; not written");
+        return;
+      }
+    }
     Interpolation interp = ch.interpolation;
     const std::size_t per_key = static_cast<std::size_t>(comps) * (interp == Interpolation::cubic_spline ? 3 : 1);
     if (ch.values.size() != keys * per_key)
@@ -557,19 +641,24 @@ class Builder {
     }
     tinygltf::AnimationSampler sampler;
     sampler.input = add_float_accessor(times.data(), times.size(), 1, TINYGLTF_TYPE_SCALAR, 0, true);
-    sampler.output = add_float_accessor(out.data(), out.size() / static_cast<std::size_t>(comps), comps,
-                                        comps == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, 0, false);
+    const bool weights = ch.path == ChannelPath::weights;
+    sampler.output = weights ? add_float_accessor(out.data(), out.size(), 1, TINYGLTF_TYPE_SCALAR, 0, false)
+                             : add_float_accessor(out.data(), out.size() / static_cast<std::size_t>(comps), comps,
+                                                  comps == 4 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3, 0, false);
     sampler.interpolation = interp == Interpolation::step     ? "STEP"
                             : interp == Interpolation::linear ? "LINEAR"
                                                               : "CUBICSPLINE";
     a.samplers.push_back(std::move(sampler));
-    tinygltf::AnimationChannel channel;
-    channel.sampler = static_cast<int>(a.samplers.size()) - 1;
-    channel.target_node = ch.joint;
-    channel.target_path = ch.path == ChannelPath::translation ? "translation"
-                          : ch.path == ChannelPath::rotation  ? "rotation"
-                                                              : "scale";
-    a.channels.push_back(std::move(channel));
+    for (const int node : nodes) {
+      tinygltf::AnimationChannel channel;
+      channel.sampler = static_cast<int>(a.samplers.size()) - 1;
+      channel.target_node = node;
+      channel.target_path = ch.path == ChannelPath::translation ? "translation"
+                            : ch.path == ChannelPath::rotation  ? "rotation"
+                            : weights                           ? "weights"
+                                                                : "scale";
+      a.channels.push_back(std::move(channel));
+    }
   }
 
   std::map<int, int> material_index_, texture_index_;  // model index -> glTF index
@@ -579,6 +668,8 @@ class Builder {
   std::vector<int> depth_;
   std::vector<int> mesh_roots_;
   std::vector<int> static_children_;  ///< per joint: static mesh nodes placed among its children
+  /// Per joint: the glTF nodes holding its meshes with morph targets, and their target counts.
+  std::map<int, std::vector<std::pair<int, std::size_t>>> morph_nodes_;
   int synthetic_root_ = -1;
 };
 

@@ -38,6 +38,11 @@ long skinned_joint_count(const anim::RiggedModel& model) {
   return std::count_if(skins.begin(), skins.end(), [](const auto& m) { return !m.empty(); });
 }
 
+long morph_weight_channels(const anim::Clip& clip) {
+  return std::count_if(clip.channels.begin(), clip.channels.end(),
+                       [](const anim::Channel& ch) { return ch.path == anim::ChannelPath::weights; });
+}
+
 ModelInfo model_info(const anim::RiggedModel& model) {
   const anim::Skeleton& sk = model.skeleton;
   const auto rest = posed_positions(model, anim::rest_pose(sk), anim::SkinningMode::matrix);
@@ -62,7 +67,13 @@ std::string model_info_json(const anim::RiggedModel& model, const ModelInfo& inf
   Json meshes = Json::array();
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
+    Json targets = Json::array();
+    for (std::size_t k = 0; k < m.morph_targets.size(); ++k)
+      targets.push_back({{"name", m.morph_targets[k].name},
+                         {"default_weight", k < m.morph_weights.size() ? m.morph_weights[k] : 0.0f},
+                         {"normals", m.morph_targets[k].normals.rows() > 0}});
     meshes.push_back({{"name", m.name},
+                      {"morph_targets", targets},
                       {"vertices", m.vertex_count()},
                       {"triangles", m.face_count()},
                       {"skinned", !m.skin.empty()},
@@ -81,7 +92,10 @@ std::string model_info_json(const anim::RiggedModel& model, const ModelInfo& inf
   }
   Json clips = Json::array();
   for (std::size_t c = 0; c < model.clips.size(); ++c)
-    clips.push_back({{"index", c}, {"name", model.clips[c].name}, {"duration", model.clips[c].duration}});
+    clips.push_back({{"index", c},
+                     {"name", model.clips[c].name},
+                     {"duration", model.clips[c].duration},
+                     {"morph_weight_channels", morph_weight_channels(model.clips[c])}});
   const Json out = {{"file", file},
                     {"pose", {{"kind", "bind"}}},
                     {"meshes", meshes},

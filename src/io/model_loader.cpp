@@ -69,6 +69,10 @@ bool mirrors(const Eigen::Matrix4d& m) { return m.topLeftCorner<3, 3>().determin
 void reflect(mesh::Mesh& m) {
   m.positions.col(2) *= -1;
   if (m.normals.rows() > 0) m.normals.col(2) *= -1;
+  for (mesh::MorphTarget& t : m.morph_targets) {
+    t.positions.col(2) *= -1;
+    if (t.normals.rows() > 0) t.normals.col(2) *= -1;
+  }
   m.faces.col(1).swap(m.faces.col(2));
 }
 
@@ -155,10 +159,13 @@ void start_clips_at_zero(anim::RiggedModel& model) {
                         std::to_string(ch.times.front()) + "); cgamesh cannot start it at 0");
       earliest = std::min(earliest, ch.times.front());
       const anim::Clip one{.name = clip.name, .duration = std::max(0.0, ch.times.back()), .channels = {ch}};
-      const Transform at_zero =
-          anim::sample(model.skeleton, one, 0.0, anim::BlendMode::format).local[static_cast<std::size_t>(ch.joint)];
+      const anim::Pose zero = anim::sample(model.skeleton, one, 0.0, anim::BlendMode::format);
+      const Transform& at_zero = zero.local[static_cast<std::size_t>(ch.joint)];
       std::vector<double> value(at_zero.rotation.coeffs().data(), at_zero.rotation.coeffs().data() + 4);  // x y z w
-      if (ch.path == ChannelPath::translation)
+      if (ch.path == ChannelPath::weights)
+        value.assign(zero.morph_weights[static_cast<std::size_t>(ch.joint)].begin(),
+                     zero.morph_weights[static_cast<std::size_t>(ch.joint)].end());
+      else if (ch.path == ChannelPath::translation)
         value.assign(at_zero.translation.data(), at_zero.translation.data() + 3);
       else if (ch.path == ChannelPath::scale)
         value.assign(at_zero.scale.data(), at_zero.scale.data() + 3);
@@ -229,6 +236,7 @@ class Loader {
     for (anim::Clip& clip : model.clips)
       for (Channel& ch : clip.channels) {
         const auto j = static_cast<std::size_t>(ch.joint);
+        if (ch.path == ChannelPath::weights) continue;  // numbers, not geometry
         if (own[j] && ch.path != ChannelPath::translation)
           throw FileError("node '" + model.skeleton.names()[j] + "' mirrors (negative determinant) and clip '" +
                           clip.name + "' rotates or scales it; cgamesh cannot represent that");
@@ -328,6 +336,7 @@ class Loader {
     m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
     for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
     repair_normals(m);
+    add_morph_targets(in, m);
     m.material = materials.front();
     if (std::any_of(materials.begin(), materials.end(), [&](int x) { return x != m.material; }))
       m.face_materials =
@@ -335,6 +344,44 @@ class Loader {
     if (in.HasBones() ? add_skin(in, m) : mirrored_[static_cast<std::size_t>(node)]) reflect_mirrored(m);
     m.node = remap_[static_cast<std::size_t>(node)];
     model_.meshes.push_back(std::move(m));
+  }
+
+  /// The mesh's morph targets: Assimp's anim meshes hold each target's absolute positions and
+  /// normals (rest + displacement), and its default weight.
+  void add_morph_targets(const aiMesh& in, mesh::Mesh& m) {
+    const Eigen::Index nv = m.vertex_count();
+    for (unsigned k = 0; k < in.mNumAnimMeshes; ++k) {
+      const aiAnimMesh& a = *in.mAnimMeshes[k];
+      mesh::MorphTarget t;
+      t.name = name(a.mName);
+      if (a.mNumVertices != in.mNumVertices) {
+        warn("morph target " + std::to_string(k) + " ('" + t.name + "') of mesh '" + m.name + "' has " +
+             std::to_string(a.mNumVertices) + " vertices for the mesh's " + std::to_string(in.mNumVertices) +
+             "; the mesh loads without its morph targets");
+        m.morph_targets.clear();
+        m.morph_weights.clear();
+        return;
+      }
+      t.positions.setZero(nv, 3);
+      if (a.mVertices != nullptr)
+        for (Eigen::Index i = 0; i < nv; ++i) {
+          const aiVector3D d = a.mVertices[i] - in.mVertices[i];
+          t.positions.row(i) << d.x, d.y, d.z;
+        }
+      if (a.mNormals != nullptr && m.normals.rows() == nv) {
+        t.normals.resize(nv, 3);
+        for (Eigen::Index i = 0; i < nv; ++i) {
+          const aiVector3D d = a.mNormals[i] - in.mNormals[i];
+          t.normals.row(i) << d.x, d.y, d.z;
+        }
+        // A mesh whose normals were repaired (NaN in the file) keeps its targets' positions only.
+        if (!t.normals.allFinite()) t.normals.resize(0, 3);
+      }
+      if (!t.positions.allFinite())
+        throw FileError("morph target '" + t.name + "' of mesh '" + m.name + "' has NaN or infinite positions");
+      m.morph_targets.push_back(std::move(t));
+      m.morph_weights.push_back(std::isfinite(a.mWeight) ? a.mWeight : 0.0f);
+    }
   }
 
   /// A reader's NaN or infinite normals (Q3D's earth has a few) would make every posed normal, and
@@ -532,9 +579,45 @@ class Loader {
       add_channel(clip, joint, ChannelPath::rotation, na.mRotationKeys, na.mNumRotationKeys, tps);
       add_channel(clip, joint, ChannelPath::scale, na.mScalingKeys, na.mNumScalingKeys, tps);
     }
+    for (unsigned c = 0; c < in.mNumMorphMeshChannels; ++c) add_weights_channel(clip, *in.mMorphMeshChannels[c], tps);
     for (const Channel& ch : clip.channels)
       if (!ch.times.empty()) clip.duration = std::max(clip.duration, ch.times.back());
     model_.clips.push_back(std::move(clip));
+  }
+
+  /// A channel of morph weights: Assimp names the node whose meshes it drives and gives, per key,
+  /// (target, weight) pairs; the channel keeps every target's weight, 0 for those a key omits.
+  void add_weights_channel(anim::Clip& clip, const aiMeshMorphAnim& in, double tps) {
+    const std::string node = name(in.mName);
+    const auto it = by_name_.find(node);
+    const int joint = it == by_name_.end() ? -1 : remap_[static_cast<std::size_t>(it->second)];
+    std::size_t targets = 0;
+    for (const mesh::Mesh& m : model_.meshes)
+      if (m.node == joint) targets = std::max(targets, m.morph_targets.size());
+    if (targets == 0) {
+      warn("clip '" + clip.name + "' animates the morph weights of node '" + node +
+           "', which has no mesh with morph targets; ignored");
+      return;
+    }
+    Channel ch;
+    ch.joint = joint;
+    ch.path = ChannelPath::weights;
+    ch.weight_count = static_cast<int>(targets);
+    for (unsigned k = 0; k < in.mNumKeys; ++k) {
+      const aiMeshMorphKey& key = in.mKeys[k];
+      const double t = key.mTime / tps;
+      if (!std::isfinite(t)) throw FileError("clip '" + clip.name + "' has a NaN key time");
+      if (!ch.times.empty() && t <= ch.times.back()) continue;
+      ch.times.push_back(t);
+      ch.values.resize(ch.values.size() + targets, 0.0);
+      for (unsigned i = 0; i < key.mNumValuesAndWeights; ++i) {
+        if (key.mValues[i] >= targets) continue;
+        if (!std::isfinite(key.mWeights[i]))
+          throw FileError("clip '" + clip.name + "' has NaN or infinite morph weights");
+        ch.values[ch.values.size() - targets + key.mValues[i]] = key.mWeights[i];
+      }
+    }
+    if (!ch.times.empty()) clip.channels.push_back(std::move(ch));
   }
 
   template <class Key>

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/errors.hpp"
 
 namespace cgamesh::io {
@@ -148,11 +149,12 @@ PosedFrame posed(const anim::RiggedModel& model, const anim::Pose& pose, Skinnin
   PosedFrame out;
   bool approximated = false;
   for (const mesh::Mesh& m : model.meshes) {
-    anim::skin_into(m, anim::make_palette(m, gv, gm, mode), out.positions.emplace_back(),
+    const std::span<const float> weights = anim::morph_weights(pose, m);
+    anim::skin_into(m, anim::make_palette(m, gv, gm, mode, weights), out.positions.emplace_back(),
                     frame ? &out.normals.emplace_back() : nullptr);
     if (frame && (mode == SkinningMode::versor || mode == SkinningMode::dqs) && !anim::maps_by_similarities(m, gm)) {
       approximated = true;
-      out.displacement = std::max(out.displacement, anim::exact_displacement(m, gm, out.positions.back()));
+      out.displacement = std::max(out.displacement, anim::exact_displacement(m, gm, out.positions.back(), weights));
     }
   }
   if (approximated) {

@@ -97,6 +97,12 @@ void blend_rows(const Mesh& old, std::span<const VertexSource> sources, Mesh& ou
       if (has_normals) blend_row(old.normals, s, out.normals, i, true);
       if (has_uvs) blend_row(old.uvs, s, out.uvs, i, false);
     }
+    for (std::size_t t = 0; t < old.morph_targets.size(); ++t) {
+      const MorphTarget& from = old.morph_targets[t];
+      MorphTarget& to = out.morph_targets[t];
+      blend_row(from.positions, s, to.positions, i, false);
+      if (from.normals.rows() > 0) blend_row(from.normals, s, to.normals, i, false);
+    }
     if (!has_skin) continue;
     if (s.count() == 1 && (s.influence_mask & 1u) != 0) {
       joints(s.vertex[0], i);
@@ -116,8 +122,7 @@ void grow_rows(Matrix& m, Eigen::Index n) {
 
 }  // namespace
 
-Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
-              const Faces& faces) {
+Mesh resample(const Mesh& old, std::span<const VertexSource> sources, const Faces& faces) {
   check_sources(sources, old.vertex_count());
   // One unsigned comparison per index (a negative one wraps above any count), with no early exit
   // so that it vectorises.
@@ -140,6 +145,9 @@ Mesh resample(const Mesh& old, std::span<const VertexSource> sources,
   if (old.uvs.rows() > 0) out.uvs.resize(n, 2);
   out.generated.resize(n);
   if (old.file_index.rows() > 0) out.file_index.resize(n);
+  out.morph_weights = old.morph_weights;
+  for (const MorphTarget& t : old.morph_targets)
+    out.morph_targets.push_back({t.name, RowMatrixXf<3>(n, 3), RowMatrixXf<3>(t.normals.rows() > 0 ? n : 0, 3)});
   if (!old.skin.empty()) {
     out.skin.palette = old.skin.palette;
     out.skin.inverse_bind = old.skin.inverse_bind;
@@ -163,6 +171,10 @@ void append_resampled(Mesh& m, std::span<const VertexSource> sources) {
   else
     m.generated.setZero(first + n);
   grow_rows(m.file_index, n);
+  for (MorphTarget& t : m.morph_targets) {
+    grow_rows(t.positions, n);
+    grow_rows(t.normals, n);
+  }
   if (!m.skin.empty()) {
     grow_rows(m.skin.joints, n);
     grow_rows(m.skin.weights, n);

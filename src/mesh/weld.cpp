@@ -1,5 +1,6 @@
 #include "cgamesh/mesh/weld.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -67,7 +68,22 @@ VertexBits vertex_bits(const Mesh& m, Eigen::Index v) {
       b[12 + static_cast<std::size_t>(k / 2)] |= static_cast<std::uint32_t>(m.skin.joints(v, k)) << (16 * (k % 2));
     }
   if (m.generated.rows() > 0) b[14] = m.generated(v);
+  // Morph displacements: hashed here, compared exactly when two vertices meet (same_morph).
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const MorphTarget& t : m.morph_targets) {
+    for (int c = 0; c < 3; ++c) h = (h ^ bits(t.positions(v, c))) * 0x100000001b3ULL;
+    if (t.normals.rows() > 0)
+      for (int c = 0; c < 3; ++c) h = (h ^ bits(t.normals(v, c))) * 0x100000001b3ULL;
+  }
+  b[15] = static_cast<std::uint32_t>(h ^ (h >> 32));
   return b;
+}
+
+/// Whether vertices a and b move alike under every morph target.
+bool same_morph(const Mesh& m, Eigen::Index a, Eigen::Index b) {
+  return std::all_of(m.morph_targets.begin(), m.morph_targets.end(), [&](const MorphTarget& t) {
+    return t.positions.row(a) == t.positions.row(b) && (t.normals.rows() == 0 || t.normals.row(a) == t.normals.row(b));
+  });
 }
 
 }  // namespace
@@ -80,6 +96,11 @@ int join_identical_vertices(Mesh& m) {
   kept.reserve(static_cast<std::size_t>(nv));
   for (Eigen::Index v = 0; v < nv; ++v) {
     const auto [id, added] = first.try_emplace(vertex_bits(m, v), static_cast<int>(kept.size()));
+    if (!added && !same_morph(m, kept[static_cast<std::size_t>(*id)], v)) {
+      new_id[static_cast<std::size_t>(v)] = static_cast<int>(kept.size());
+      kept.push_back(static_cast<int>(v));
+      continue;
+    }
     if (added) kept.push_back(static_cast<int>(v));
     new_id[static_cast<std::size_t>(v)] = *id;
   }
@@ -90,6 +111,10 @@ int join_identical_vertices(Mesh& m) {
   if (m.uvs.rows() > 0) m.uvs = m.uvs(kept, Eigen::all).eval();
   if (m.generated.rows() > 0) m.generated = m.generated(kept).eval();
   if (m.file_index.rows() > 0) m.file_index = m.file_index(kept).eval();
+  for (MorphTarget& t : m.morph_targets) {
+    t.positions = t.positions(kept, Eigen::all).eval();
+    if (t.normals.rows() > 0) t.normals = t.normals(kept, Eigen::all).eval();
+  }
   if (!m.skin.empty()) {
     m.skin.joints = m.skin.joints(kept, Eigen::all).eval();
     m.skin.weights = m.skin.weights(kept, Eigen::all).eval();

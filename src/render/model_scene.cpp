@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/surgery/pieces.hpp"
@@ -175,7 +176,7 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
     const auto gv = anim::global_versors(model.skeleton, in.pose);
     const auto gm = anim::global_matrices(model.skeleton, in.pose);
     for (const mesh::Mesh& m : model.meshes) {
-      const anim::SkinningPalette palette = anim::make_palette(m, gv, gm, o.skinning);
+      const anim::SkinningPalette palette = anim::make_palette(m, gv, gm, o.skinning, anim::morph_weights(in.pose, m));
       DrawMesh d;
       anim::skin_into(m, palette, d.positions, &d.normals);
       d.faces = m.faces;

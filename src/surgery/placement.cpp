@@ -1,5 +1,7 @@
 #include "cgamesh/surgery/placement.hpp"
 
+#include "cgamesh/anim/morph.hpp"
+
 namespace cgamesh::surgery {
 
 namespace {
@@ -9,7 +11,8 @@ std::vector<anim::SkinningPalette> palettes(const anim::RiggedModel& model, cons
   const auto gv = anim::global_versors(model.skeleton, pose);
   const auto gm = anim::global_matrices(model.skeleton, pose);
   std::vector<anim::SkinningPalette> out;
-  for (const mesh::Mesh& m : model.meshes) out.push_back(anim::make_palette(m, gv, gm, anim::SkinningMode::cga));
+  for (const mesh::Mesh& m : model.meshes)
+    out.push_back(anim::make_palette(m, gv, gm, anim::SkinningMode::cga, anim::morph_weights(pose, m)));
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/errors.hpp"
@@ -211,8 +212,10 @@ void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, c
     const Eigen::Index v = first + static_cast<Eigen::Index>(k);
     const Eigen::Matrix<double, 3, 4> a = anim::blended_affine(m, palette, v);
     // A blend of joints that collapse space has no inverse: keep the parametric point.
+    // The placed point is the skinned morphed rest point: its rest position is that less the
+    // vertex's own morph displacement (blended from its sources' as its UVs are).
     if (const auto x = unskin(a.leftCols<3>(), placed.row(v).cast<double>().transpose() - a.col(3)))
-      m.positions.row(v) = x->cast<float>().transpose();
+      m.positions.row(v) = x->cast<float>().transpose() - anim::morph_offset(m, palette.morph_weights, v).transpose();
   }
 }
 
@@ -308,6 +311,12 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   m.generated = stack_rows(old.generated.rows() > 0 ? old.generated : decltype(old.generated)::Zero(nv), kept, all,
                            blended.generated);
   m.file_index = stack_rows(old.file_index, kept, all, blended.file_index);
+  m.morph_weights = old.morph_weights;
+  m.morph_targets = std::move(blended.morph_targets);
+  for (std::size_t t = 0; t < m.morph_targets.size(); ++t) {
+    m.morph_targets[t].positions = stack_rows(old.morph_targets[t].positions, kept, all, m.morph_targets[t].positions);
+    m.morph_targets[t].normals = stack_rows(old.morph_targets[t].normals, kept, all, m.morph_targets[t].normals);
+  }
   if (!old.skin.empty()) {
     m.skin = std::move(blended.skin);
     m.skin.joints = stack_rows(old.skin.joints, kept, all, m.skin.joints);

@@ -312,15 +312,14 @@ TEST(Drill, ThroughDrillLeavingTheBodyBeforeItsTipWallsNothingOutside) {
 // A blind hole, a through hole whose tip lies far past the body, and two boxes one behind the
 // other: walls where the material is, each counted; the result closed.
 TEST(Drill, WallsCountTubesAndBlindHoles) {
-  mesh::Mesh two = fine_box();
-  mesh::Mesh behind = fine_box();
-  behind.positions.col(2).array() += 2;
-  two.positions.conservativeResize(2 * two.positions.rows(), 3);
-  two.positions.bottomRows(behind.positions.rows()) = behind.positions;
-  const Eigen::Index nf = two.faces.rows();
-  two.faces.conservativeResize(2 * nf, 3);
-  two.faces.bottomRows(nf) = behind.faces.array() + static_cast<int>(behind.positions.rows());
-  const anim::RiggedModel model = static_model(two);
+  // Two unit cubes (positions and faces only, so stacking them is a whole mesh), then refined.
+  mesh::Mesh two = cube();
+  two.positions.conservativeResize(16, 3);
+  two.positions.bottomRows(8) = two.positions.topRows(8);
+  two.positions.bottomRows(8).col(2).array() += 2;
+  two.faces.conservativeResize(24, 3);
+  two.faces.bottomRows(12) = two.faces.topRows(12).array() + 8;
+  const anim::RiggedModel model = static_model(mesh::subdivide_midpoint(mesh::subdivide_midpoint(two)));
   const auto placement = rest_placement(model);
   DrillOptions wall;
   wall.wall = true;

@@ -137,6 +137,27 @@ TEST(RestPosition, CutSeamLiesOnThePlaneWhenRePosed) {
   }
 }
 
+// A skinned rig with morph targets, cut where its clip has them half on: a new vertex's rest
+// position leaves out its own morph displacement (blended from its sources'), so re-posed by
+// cgamesh and, from the written glTF, by three.js, it lies where the blade placed it.
+TEST(RestPosition, CutOfAMorphedRigStaysWhereTheBladePlacedIt) {
+  const Posed rig(cgamesh_test::asset("rigged_simple_morph.glb"), 1.3);
+  const Eigen::Vector3d c = rig.middle_point(0), n = Eigen::Vector3d(0.3, 1, 0.2).normalized();
+  const surgery::ModelCut cut = surgery::cut(rig.model, rig.placement, cga::plane(n, n.dot(c)), {.cap = true});
+  for (std::size_t p = 0; p < 2; ++p) {
+    const mesh::Mesh& m = cut.pieces[p].meshes[0];
+    ASSERT_EQ(m.morph_targets.size(), 2u);
+    for (const mesh::MorphTarget& t : m.morph_targets) EXPECT_EQ(t.positions.rows(), m.vertex_count());
+    const NewVertices fresh = new_vertices(cut.origins[p][0], cut.placed[p][0]);
+    ASSERT_FALSE(fresh.ids.empty());
+    EXPECT_LE(worst_drift(cut.pieces[p], 0, fresh, rig.time), kOnTool * rig.diagonal) << "piece " << p;
+    if (cgamesh_test::three_available()) {
+      EXPECT_LE(worst_drift_three_js(cut.pieces[p], 0, fresh, rig.time, "morph_piece"), kOnTool * rig.diagonal)
+          << "piece " << p;
+    }
+  }
+}
+
 /// A drill across the middle of the placed mesh, along z.
 struct DrillCase {
   Eigen::Vector3d tip, base;

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
@@ -167,7 +168,7 @@ inline Points skinned(const cgamesh::anim::RiggedModel& model, const cgamesh::me
                               : anim::sample(model.skeleton, model.clips[0], time, anim::BlendMode::format);
   const auto gv = anim::global_versors(model.skeleton, pose);
   const auto gm = anim::global_matrices(model.skeleton, pose);
-  return anim::skin(m, anim::make_palette(m, gv, gm, anim::SkinningMode::cga), 1);
+  return anim::skin(m, anim::make_palette(m, gv, gm, anim::SkinningMode::cga, anim::morph_weights(pose, m)), 1);
 }
 
 /// Key of a vertex origin: the same point of the input surface gives the same key.

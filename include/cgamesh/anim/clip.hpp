@@ -1,5 +1,6 @@
 #pragma once
-// Animation clips: per-joint translation, rotation and scale keys, as files store them.
+// Animation clips: per-joint translation, rotation and scale keys and the morph-target weights
+// of the meshes on a node, as files store them.
 
 #include <string>
 #include <vector>
@@ -8,20 +9,25 @@ namespace cgamesh::anim {
 
 /// How the file says to interpolate between keys (glTF sampler.interpolation).
 enum class Interpolation { step, linear, cubic_spline };
-/// Which part of the joint's TRS a channel drives.
-enum class ChannelPath { translation, rotation, scale };
+/// Which part of the joint's TRS a channel drives, or the morph weights of the meshes on it.
+enum class ChannelPath { translation, rotation, scale, weights };
 
-/// Keys of one TRS component of one joint.
+/// Keys of one TRS component of one joint, or of the morph weights of the meshes on that joint
+/// (node; glTF's "weights" path).
 struct Channel {
   int joint = -1;  ///< skeleton joint index
   ChannelPath path = ChannelPath::translation;
   Interpolation interpolation = Interpolation::linear;
   std::vector<double> times;  ///< #K strictly increasing seconds
-  /// Flat key values: 3 per key (x y z) for translation/scale, 4 (x y z w) for rotation; for
-  /// cubic_spline each key holds in-tangent, value, out-tangent in that order (glTF layout).
+  /// Flat key values: 3 per key (x y z) for translation/scale, 4 (x y z w) for rotation,
+  /// weight_count for weights; for cubic_spline each key holds in-tangent, value, out-tangent in
+  /// that order (glTF layout).
   std::vector<double> values;
+  int weight_count = 0;  ///< weights: the number of morph targets of the meshes on the joint
 
-  [[nodiscard]] int components() const noexcept { return path == ChannelPath::rotation ? 4 : 3; }
+  [[nodiscard]] int components() const noexcept {
+    return path == ChannelPath::rotation ? 4 : path == ChannelPath::weights ? weight_count : 3;
+  }
 };
 
 struct Clip {

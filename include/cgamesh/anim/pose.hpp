@@ -26,6 +26,9 @@ enum class BlendMode {
 struct Pose {
   std::vector<Transform> local;
   std::vector<cga::Versor<double>> local_versors;
+  /// Per joint, the morph weights a clip gives the meshes on that joint; empty (or an empty
+  /// entry): their default weights (Mesh::morph_weights). See morph_weights().
+  std::vector<std::vector<float>> morph_weights;
 };
 
 /// A user edit of one joint, applied in the joint's own frame after the clip:

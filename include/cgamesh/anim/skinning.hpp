@@ -84,15 +84,22 @@ struct SkinningPalette {
   /// (17).
   std::vector<float> packed;
   int packed_stride = 0;
+  /// The mesh's morph-target weights this frame (morph_weights()), applied to the rest mesh
+  /// before skinning in every mode (glTF's order); empty or all 0: the rest mesh as it is.
+  std::vector<float> morph_weights;
 };
 
 /// Builds the palette of `mesh` for one frame. A mesh without a skin follows its node.
 /// @param[in] globals_cga     #joints global versors M_n (global_versors())
 /// @param[in] globals_matrix  #joints global matrices (global_matrices()); used by matrix/dqs,
 ///                            and by cga for the entries that are no similarity
-/// @throws InvalidInputError when a palette entry names a joint outside the spans.
+/// @param[in] morph_weights   empty, or #targets weights of the mesh's morph targets
+///                            (morph_weights(pose, mesh))
+/// @throws InvalidInputError when a palette entry names a joint outside the spans, or as
+///         check_morph_weights().
 [[nodiscard]] SkinningPalette make_palette(const mesh::Mesh& mesh, std::span<const cga::Versor<double>> globals_cga,
-                                           std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode);
+                                           std::span<const Eigen::Matrix4d> globals_matrix, SkinningMode mode,
+                                           std::span<const float> morph_weights = {});
 
 /// Whether every palette entry of `mesh` maps by a similarity at this pose: the global matrices
 /// of its joints and its inverse binds have no non-uniform scale or shear (to
@@ -108,9 +115,11 @@ struct SkinningPalette {
 /// counts too: on any rig versor and dqs blend otherwise than linearly, by design.
 /// @param[in] globals_matrix  #joints global matrices (global_matrices())
 /// @param[in] positions       #V×3 posed positions of `mesh` (skin() in any mode)
+/// @param[in] morph_weights   the morph weights `positions` were skinned with
 /// @throws InvalidInputError when `positions` does not have #V rows, or as make_palette().
 [[nodiscard]] double exact_displacement(const mesh::Mesh& mesh, std::span<const Eigen::Matrix4d> globals_matrix,
-                                        const mesh::RowMatrixXf<3>& positions);
+                                        const mesh::RowMatrixXf<3>& positions,
+                                        std::span<const float> morph_weights = {});
 
 /// Skins vertices [begin, end) of `mesh` into the same rows of `positions` (#V×3) and, when
 /// `normals` is not null, its normals into the rows of `*normals` (#V×3; as skin_normals()):
@@ -137,7 +146,8 @@ void skin_into(const mesh::Mesh& mesh, const SkinningPalette& palette, mesh::Row
 [[nodiscard]] mesh::RowMatrixXf<3> skin(const mesh::Mesh& mesh, const SkinningPalette& palette, int threads = 0);
 
 /// The blended map Σ wₙ Aₙ of vertex i as one affine x ↦ A x + b (3×4): what eq. (17) does to
-/// that vertex in a `cga` or `matrix` palette (a static mesh: its node's map).
+/// that vertex (morphed, when the palette has morph weights) in a `cga` or `matrix` palette (a
+/// static mesh: its node's map).
 /// @param[in] palette  make_palette(mesh, ...) in mode cga or matrix
 /// @param[in] i        vertex index, 0 <= i < #V
 [[nodiscard]] Eigen::Matrix<double, 3, 4> blended_affine(const mesh::Mesh& mesh, const SkinningPalette& palette,
@@ -156,7 +166,7 @@ void skin_into(const mesh::Mesh& mesh, const SkinningPalette& palette, mesh::Row
 
 /// Eq. (17) written literally, one sandwich and down-projection per vertex and influence, in
 /// double: the reference the fast modes are tested against (slow). Versors only: on a rig that
-/// is not made of similarities it approximates as versor skinning does.
+/// is not made of similarities it approximates as versor skinning does. No morph targets.
 [[nodiscard]] mesh::RowMatrixXf<3> skin_cga_reference(const mesh::Mesh& mesh,
                                                       std::span<const cga::Versor<double>> globals_cga);
 

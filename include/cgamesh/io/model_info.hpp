@@ -38,6 +38,9 @@ struct ModelInfo {
 /// them: `nodes` counts those too).
 [[nodiscard]] long skinned_joint_count(const anim::RiggedModel& model);
 
+/// The channels of `clip` that animate morph weights.
+[[nodiscard]] long morph_weight_channels(const anim::Clip& clip);
+
 /// The summary of `model` (bind-pose boxes from matrix skinning, eq. 16).
 [[nodiscard]] ModelInfo model_info(const anim::RiggedModel& model);
 

@@ -31,6 +31,15 @@ struct Skin {
   [[nodiscard]] bool empty() const noexcept { return palette.empty(); }
 };
 
+/// One morph target (blend shape, glTF's mesh.primitives[].targets): displacements of the rest
+/// mesh's vertices. At weight w the mesh is rest + w Δ, summed over its targets, before skinning
+/// (the glTF order).
+struct MorphTarget {
+  std::string name;          ///< the file's name (glTF mesh.extras.targetNames), or empty
+  RowMatrixXf<3> positions;  ///< #V x 3 displacement of each rest position
+  RowMatrixXf<3> normals;    ///< #V x 3 displacement of each normal, or 0 rows
+};
+
 /// A triangle mesh. Vertices are never merged across seams: two vertices at the same place
 /// with different joints, normals or UVs stay two. Its arrays keep spare capacity (RowArray), so
 /// that surgery in place adds vertices and faces without copying the mesh.
@@ -55,6 +64,12 @@ struct Mesh {
   /// Skeleton node the mesh hangs from, or -1: a static mesh is placed by it; a skinned mesh
   /// is placed by its joints alone, and its node is kept so that a written file keeps its tree.
   int node = -1;
+  /// Morph targets, each with #V rows; a new vertex of an operation gets the blend of its
+  /// sources' displacements, as its UVs.
+  std::vector<MorphTarget> morph_targets;
+  /// #targets default weights (glTF mesh.weights, or the node's): what a pose without a clip
+  /// that animates them uses. Empty when the mesh has no targets.
+  std::vector<float> morph_weights;
   int material = -1;  ///< index into RiggedModel::materials, or -1 (none)
   /// #F per-face material (index into RiggedModel::materials, or -1), for a mesh whose faces
   /// differ (surgery gives its caps and hole walls the cut-surface material); 0 rows when every
@@ -86,6 +101,10 @@ struct Mesh {
     reserve_if_present(file_index, vertices);
     reserve_if_present(skin.joints, vertices);
     reserve_if_present(skin.weights, vertices);
+    for (MorphTarget& t : morph_targets) {
+      t.positions.reserve(vertices);
+      reserve_if_present(t.normals, vertices);
+    }
     faces.reserve(faces_in_all);
     face_materials.reserve(faces_in_all);
   }

@@ -40,8 +40,9 @@ struct VertexSource {
 void blend_influences(const Skin& skin, const VertexSource& source, std::span<std::uint16_t, 4> joints,
                       std::span<float, 4> weights) noexcept;
 
-/// A mesh whose vertices are blends of `old`'s: positions, normals (renormalised), UVs and skin
-/// influences; palette, inverse binds, name, node and material copied (not face_materials:
+/// A mesh whose vertices are blends of `old`'s: positions, normals (renormalised), UVs, morph
+/// displacements and skin influences; palette, inverse binds, morph target names and default
+/// weights, name, node and material copied (not face_materials:
 /// the new faces' origins are the caller's to know).
 /// @param[in] old      source mesh
 /// @param[in] sources  #N where each new vertex comes from (indices into `old`)
