@@ -228,11 +228,10 @@ PROBLEM_KINDS = FAILING_KINDS + ("mismatch", "invalid", "refused", "skipped")
 
 
 def first_error_line(stderr: str) -> str:
-    for line in stderr.splitlines():
-        line = line.strip()
-        if line and not line.startswith("cgamesh: warning:"):
-            return line[:300]
-    return "(no message on stderr)"
+    """cgamesh's own error line; else the first other line (a reader may print on stderr first)."""
+    lines = [line.strip() for line in stderr.splitlines() if line.strip() and not line.startswith("cgamesh: warning:")]
+    own = [line for line in lines if line.startswith("cgamesh: ")]
+    return (own or lines or ["(no message on stderr)"])[0][:300]
 
 
 def classify(r: Run, codes: dict[int, str], timeout: float) -> Cell:
@@ -641,15 +640,14 @@ def build_report(results: list[Result], sweep: Sweep, meta: dict) -> tuple[str, 
     lines.append("Every cell that is not ok or warnings only (refusals with a documented code included). "
                  "FAILING marks what makes the sweep fail.")
     lines.append("")
-    n = 0
-    for res in results:
-        for column, cell in res.problems:
-            n += 1
-            mark = "FAILING " if cell.kind in FAILING_KINDS else ""
-            lines.append(f"- {mark}**{res.model.name}** `{column}` [{cell.kind}]: {cell.message}")
-            if cell.command:
-                lines.append(f"  - `{cell.command}`")
-    if n == 0:
+    problems = [(res, column, cell) for res in results for column, cell in res.problems]
+    problems.sort(key=lambda p: p[2].kind not in FAILING_KINDS)  # what fails the sweep first
+    for res, column, cell in problems:
+        mark = "FAILING " if cell.kind in FAILING_KINDS else ""
+        lines.append(f"- {mark}**{res.model.name}** `{column}` [{cell.kind}]: {cell.message}")
+        if cell.command:
+            lines.append(f"  - `{cell.command}`")
+    if not problems:
         lines.append("(none)")
 
     warnings: dict[str, dict] = {}
