@@ -36,6 +36,11 @@ sanitize: deps
 demo: build
 	bash scripts/demo.sh $(BUILD)/apps/cli/cgamesh
 
+# Every field model (../shared/data, Debian's assimp-testmodels) through every command: a report
+# and pictures in $(BUILD)/sweep. Slow; not part of `test`. SWEEP_ARGS adds options (--filter, --jobs...).
+sweep: build
+	python3 scripts/field_sweep.py --cli $(BUILD)/apps/cli/cgamesh --out $(BUILD)/sweep $(SWEEP_ARGS)
+
 bench: deps
 	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DCGAMESH_BUILD_PYTHON=ON
 	cmake --build $(BENCH_BUILD) -j $(JOBS) --target cgamesh_bench _cgamesh
