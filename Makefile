@@ -4,7 +4,7 @@ SAN_BUILD  ?= build-sanitize
 BENCH_BUILD ?= build-release
 JOBS       ?= $(shell nproc)
 
-.PHONY: all deps build python test sanitize demo bench format clean
+.PHONY: all deps build python test sanitize sweep demo bench format clean
 
 all: build
 
