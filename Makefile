@@ -12,8 +12,12 @@ deps:
 	@bash scripts/install-deps.sh
 
 # CI and development builds treat warnings as errors; a user's plain `cmake` does not.
+# Line tables only (-g1): stack traces and profiles keep file:line, and the build takes a third
+# less time than with full debug information (CI's budget).
+DEV_FLAGS := -DCGAMESH_WERROR=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_DEBUG="-g1"
+
 build: deps
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCGAMESH_WERROR=ON
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(DEV_FLAGS)
 	cmake --build $(BUILD) -j $(JOBS)
 
 # The Python module (python/): the extension and the package cgamesh in $(BUILD)/python.
@@ -29,7 +33,7 @@ test: build
 
 # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
 sanitize: deps
-	cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCGAMESH_SANITIZE=ON -DCGAMESH_BUILD_BENCH=OFF -DCGAMESH_WERROR=ON
+	cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCGAMESH_SANITIZE=ON -DCGAMESH_BUILD_BENCH=OFF $(DEV_FLAGS)
 	cmake --build $(SAN_BUILD) -j $(JOBS)
 	ctest --test-dir $(SAN_BUILD) --output-on-failure -j $(JOBS)
 

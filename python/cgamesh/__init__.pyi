@@ -48,9 +48,25 @@ class Mesh:
     def palette(self) -> npt.NDArray[np.int32]:
         """#J skeleton joint of each palette entry."""
     @property
+    def morph_targets(self) -> list[MorphTarget]:
+        """Blend shapes, in the file's order (views into the model)."""
+    @property
+    def morph_weights(self) -> npt.NDArray[np.float32]:
+        """#targets default weights (a copy)."""
+    @property
     def skinned(self) -> bool: ...
     @property
     def node(self) -> int: ...
+
+class MorphTarget:
+    @property
+    def name(self) -> str: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float32]:
+        """#V×3 position displacements (read-only view)."""
+    @property
+    def normals(self) -> npt.NDArray[np.float32]:
+        """#V×3 normal displacements, or 0×3."""
 
 class Skeleton:
     @property
@@ -99,7 +115,10 @@ class Model:
         """What `cgamesh info --json` prints."""
     def save(self, path: Union[str, PathLike[str]], pose: Pose | None = None) -> list[str]: ...
     def pose(self, clip: int | str | None = None, time: float | None = None, blend: str = "format",
-             edits: Iterable[Edit] = ()) -> Pose: ...
+             edits: Iterable[Edit] = (),
+             morph_weights: Mapping[str, float] | Mapping[int, Sequence[float]] = {}) -> Pose: ...
+    def morph_weights(self, pose: Pose | None = None) -> list[npt.NDArray[np.float32]]:
+        """The #targets weights `pose` gives each mesh."""
     @overload
     def skin(self, pose: Pose | None = None, mode: str = "cga",
              normals: Literal[False] = False) -> list[npt.NDArray[np.float32]]:

@@ -152,7 +152,8 @@ void add_deform(py::module_& m) {
           "The model with the mesh's rest shape replaced by `positions` (#V×3 in `space`), skin and clips kept.")
       .def(
           "save",
-          [](const Deformer& d, const std::string& path, const py::object& positions) {
+          [](const Deformer& d, const std::filesystem::path& file, const py::object& positions) {
+            const std::string path = file.string();
             mesh::RowMatrixXf<3> deformed;
             if (positions.is_none()) {
               py::gil_scoped_release release;

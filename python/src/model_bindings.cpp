@@ -4,6 +4,7 @@
 #include <map>
 
 #include "cgamesh/anim/keyframes.hpp"
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
@@ -99,8 +100,30 @@ Value by_name(const Map& names, const std::string& name, const char* what) {
   return it->second;
 }
 
+/// Sets the morph weights `weights` gives in `pose`: {target name: weight} or {mesh index:
+/// #targets weights}.
+void set_morph_weights(anim::Pose& pose, const anim::RiggedModel& model, const py::dict& weights) {
+  for (const auto& [key, value] : weights) {
+    if (py::isinstance<py::str>(key)) {
+      anim::set_morph_weight(pose, model.meshes, key.cast<std::string>(), value.cast<float>());
+      continue;
+    }
+    const auto k = key.cast<std::size_t>();
+    if (k >= model.meshes.size())
+      throw InvalidInputError("morph_weights: mesh " + std::to_string(k) + ": the model has " +
+                              std::to_string(model.meshes.size()) + " meshes");
+    const auto w = value.cast<std::vector<float>>();
+    const mesh::Mesh& me = model.meshes[k];
+    if (w.size() != me.morph_targets.size())
+      throw InvalidInputError("morph_weights: mesh " + std::to_string(k) + " ('" + me.name + "') has " +
+                              std::to_string(me.morph_targets.size()) + " morph targets, not " +
+                              std::to_string(w.size()));
+    for (std::size_t t = 0; t < w.size(); ++t) anim::set_morph_weight(pose, me, t, w[t]);
+  }
+}
+
 anim::Pose make_pose(const Model& self, const py::object& clip, const py::object& time, const std::string& blend,
-                     const py::iterable& edits) {
+                     const py::iterable& edits, const py::dict& morph_weights) {
   const anim::RiggedModel& model = self.model;
   const auto mode = by_name<decltype(io::kBlendModes), anim::BlendMode>(io::kBlendModes, blend, "blend");
   anim::Pose pose;
@@ -120,6 +143,7 @@ anim::Pose make_pose(const Model& self, const py::object& clip, const py::object
     pose = anim::sample(model.skeleton, model.clips[static_cast<std::size_t>(c)], t, mode);
   }
   anim::apply_edits(pose, parse_edits(model, edits));
+  set_morph_weights(pose, model, morph_weights);
   return pose;
 }
 
@@ -197,6 +221,21 @@ void add_model(py::module_& m) {
       .def_property_readonly(
           "palette", [](const mesh::Mesh& me) { return int_array(me.skin.palette); },
           "#J int32 skeleton joint of each palette entry (a copy)")
+      .def_property_readonly(
+          "morph_targets",
+          [](py::object self) {
+            py::list out;
+            for (mesh::MorphTarget& t : self.cast<mesh::Mesh&>().morph_targets)
+              out.append(py::cast(&t, py::return_value_policy::reference_internal, self));
+            return out;
+          },
+          "list of MorphTarget (blend shapes, views into this model), in the file's order")
+      .def_property_readonly(
+          "morph_weights",
+          [](const mesh::Mesh& me) {
+            return py::array_t<float>(static_cast<py::ssize_t>(me.morph_weights.size()), me.morph_weights.data());
+          },
+          "#targets float32 default morph weights (glTF mesh.weights or the node's; a copy)")
       .def_property_readonly("skinned", [](const mesh::Mesh& me) { return !me.skin.empty(); })
       .def_property_readonly(
           "node", [](const mesh::Mesh& me) { return me.node; }, "skeleton node the mesh hangs from, or -1")
@@ -204,6 +243,26 @@ void add_model(py::module_& m) {
         return "<cgamesh.Mesh '" + me.name + "': " + std::to_string(me.vertex_count()) + " vertices, " +
                std::to_string(me.face_count()) + " faces>";
       });
+
+  py::class_<mesh::MorphTarget>(m, "MorphTarget",
+                               "A morph target (blend shape) of a Mesh: per-vertex displacements added, times its "
+                               "weight, to the rest mesh before skinning (glTF's order).")
+      .def_property_readonly("name", [](const mesh::MorphTarget& t) { return t.name; })
+      .def_property_readonly(
+          "positions",
+          [](py::object self) {
+            const auto& a = self.cast<const mesh::MorphTarget&>().positions;
+            return view(a.data(), {a.rows(), a.cols()}, self);
+          },
+          "#V×3 float32 position displacements (read-only view)")
+      .def_property_readonly(
+          "normals",
+          [](py::object self) {
+            const auto& a = self.cast<const mesh::MorphTarget&>().normals;
+            return view(a.data(), {a.rows(), a.cols()}, self);
+          },
+          "#V×3 float32 normal displacements (0×3 when the file has none; read-only view)")
+      .def("__repr__", [](const mesh::MorphTarget& t) { return "<cgamesh.MorphTarget '" + t.name + "'>"; });
 
   py::class_<anim::Skeleton>(m, "Skeleton", "The joint hierarchy; parents come before children.")
       .def_property_readonly(
@@ -302,7 +361,8 @@ void add_model(py::module_& m) {
           "The summary `cgamesh info --json` prints, as a dict (bind-pose boxes in world space).")
       .def(
           "save",
-          [](const Model& me, const std::string& path, const py::object& pose) {
+          [](const Model& me, const std::filesystem::path& file, const py::object& pose) {
+            const std::string path = file.string();
             std::vector<std::string> warnings;
             if (is_gltf(path)) {
               if (!pose.is_none())
@@ -324,12 +384,27 @@ void add_model(py::module_& m) {
           "`cgamesh pose` (world space, in `pose` or the bind pose, cga skinning, with skinned normals). Atomic: on "
           "an error nothing is written. Returns the writer's warnings (list of str). Releases the GIL.")
       .def("pose", &make_pose, py::arg("clip") = py::none(), py::arg("time") = py::none(), py::arg("blend") = "format",
-           py::arg("edits") = py::list(),
+           py::arg("edits") = py::list(), py::arg("morph_weights") = py::dict(),
            "A Pose, as the CLI's --anim/--time/--blend/--set choose it: the bind pose when clip and time are None; "
            "clip (index or name; the first clip when only time is given) sampled at time seconds with blend "
            "'format', 'linear' or 'log'; then edits, each 'JOINT:rotate=AX,AY,AZ,DEG' | 'JOINT:translate=X,Y,Z' | "
            "'JOINT:scale=S' or a dict {'joint': name or index, 'rotate': (ax, ay, az, degrees), 'translate': (x, y, "
-           "z), 'scale': s}.")
+           "z), 'scale': s}; then morph_weights, {target name: weight} (every mesh's target of that name) or {mesh "
+           "index: sequence of one weight per target}, over the clip's or the file's weights.")
+      .def(
+          "morph_weights",
+          [](const Model& me, const py::object& pose) {
+            const anim::Pose p = pose_or_bind(me.model, pose);
+            py::list out;
+            for (const mesh::Mesh& mesh : me.model.meshes) {
+              const std::span<const float> w = anim::morph_weights(p, mesh);
+              out.append(py::array_t<float>(static_cast<py::ssize_t>(w.size()), w.data()));
+            }
+            return out;
+          },
+          py::arg("pose") = py::none(),
+          "The morph weights `pose` (None: the bind pose) gives each mesh: a list of #targets float32 arrays, "
+          "what skin() applies before skinning.")
       .def(
           "skin",
           [](const Model& me, const py::object& pose, const std::string& mode, bool normals) {
@@ -390,7 +465,8 @@ void add_model(py::module_& m) {
 
   m.def(
       "load",
-      [](const std::string& path) {
+      [](const std::filesystem::path& file) {
+            const std::string path = file.string();
         anim::RiggedModel model;
         {
           py::gil_scoped_release release;

@@ -163,7 +163,8 @@ void add_surgery(py::module_& m) {
       .def_readonly("stats", &SurgeryResult::stats, "the counts the CLI's --json reports")
       .def(
           "save",
-          [](const SurgeryResult& r, const std::string& path) {
+          [](const SurgeryResult& r, const std::filesystem::path& file) {
+            const std::string path = file.string();
             py::gil_scoped_release release;
             const std::string ext = std::filesystem::path(path).extension().string();
             std::string lower;

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import cgamesh
-from conftest import CESIUM, RIGGED_FIGURE, SPOT, read_obj, run_cli, run_cli_json
+from conftest import CESIUM, RIGGED_FIGURE, ROOT, SPOT, read_obj, run_cli, run_cli_json
 
 
 def test_meshes_have_documented_shapes_and_dtypes(cesium):
@@ -229,3 +229,36 @@ def test_calls_from_threads_agree(cesium):
         np.testing.assert_array_equal(r, expected)
     for m in models:
         np.testing.assert_array_equal(m.meshes[0].positions, cesium.meshes[0].positions)
+
+
+def test_morph_targets_and_weights():
+    model = cgamesh.load(ROOT / "tests" / "assets" / "rigged_simple_morph.glb")
+    mesh = model.meshes[0]
+    assert [t.name for t in mesh.morph_targets] == ["bulge", "tip"]
+    bulge, tip = mesh.morph_targets
+    assert bulge.positions.shape == mesh.positions.shape and bulge.positions.dtype == np.float32
+    assert bulge.normals.shape == (0, 3) and tip.normals.shape == mesh.positions.shape
+    assert not bulge.positions.flags.writeable
+    np.testing.assert_array_equal(mesh.morph_weights, [0.5, 0.0])  # the node's weights override the mesh's
+    np.testing.assert_array_equal(model.morph_weights()[0], [0.5, 0.0])
+    clip_weights = model.morph_weights(model.pose(time=0.6))[0]
+    set_tip = model.pose(time=0.6, morph_weights={"tip": 0.8})
+    np.testing.assert_array_equal(model.morph_weights(set_tip)[0], np.float32([clip_weights[0], 0.8]))
+
+    # Skinning is affine per vertex in its rest position, so the targets' effects add up.
+    def skinned(w):
+        return model.skin(model.pose(time=0.6, morph_weights={0: w}), mode="matrix")[0].astype(np.float64)
+
+    none, one, two, both = skinned([0, 0]), skinned([1, 0]), skinned([0, 1]), skinned([1, 1])
+    assert np.abs(one - none).max() > 0.1 and np.abs(two - none).max() > 0.1
+    np.testing.assert_allclose(both - none, (one - none) + (two - none), atol=1e-4)
+    np.testing.assert_array_equal(model.skin(set_tip)[0], model.skin(model.pose(time=0.6, morph_weights={0: [
+        clip_weights[0], 0.8]}))[0])
+
+
+@pytest.mark.parametrize("weights, message", [({"smile": 1.0}, "'bulge', 'tip'"), ({3: [0, 0]}, "1 meshes"),
+                                              ({0: [1.0]}, "2 morph targets"), ({"tip": float("nan")}, "NaN")])
+def test_bad_morph_weights_raise_invalid_input(weights, message):
+    model = cgamesh.load(ROOT / "tests" / "assets" / "rigged_simple_morph.glb")
+    with pytest.raises(cgamesh.InvalidInputError, match=message):
+        model.pose(morph_weights=weights)

@@ -31,30 +31,28 @@ Interval locate(const std::vector<double>& times, double time) {
   return {k0, k1, dt > 0 ? (time - times[k0]) / dt : 0, dt};
 }
 
-/// Value of key k (component block `block` of 3 for cubic splines: 0 in-tangent, 1 value, 2 out).
-Eigen::Vector4d key(const Channel& c, std::size_t k, int block = 1) {
-  const int n = c.components();
-  const std::size_t stride = c.interpolation == Interpolation::cubic_spline ? 3 * n : n;
-  const std::size_t offset = k * stride + (c.interpolation == Interpolation::cubic_spline ? block * n : 0);
-  Eigen::Vector4d v = Eigen::Vector4d::Zero();
-  for (int i = 0; i < n; ++i) v[i] = c.values[offset + i];
-  return v;
-}
-
-Eigen::Quaterniond quat(const Eigen::Vector4d& v) { return Eigen::Quaterniond(v[3], v[0], v[1], v[2]); }
-
-/// glTF's cubic Hermite spline between keys k0 and k1.
-Eigen::Vector4d hermite(const Channel& c, const Interval& iv) {
-  const double t = iv.alpha, t2 = t * t, t3 = t2 * t;
-  return (2 * t3 - 3 * t2 + 1) * key(c, iv.k0) + (t3 - 2 * t2 + t) * iv.dt * key(c, iv.k0, 2) +
-         (-2 * t3 + 3 * t2) * key(c, iv.k1) + (t3 - t2) * iv.dt * key(c, iv.k1, 0);
-}
-
 /// Component i of key k's block (cubic splines: 0 in-tangent, 1 value, 2 out-tangent).
 double key_component(const Channel& c, std::size_t k, int block, int i) {
   const auto n = static_cast<std::size_t>(c.components());
   return c.interpolation == Interpolation::cubic_spline ? c.values[(3 * k + static_cast<std::size_t>(block)) * n + i]
                                                         : c.values[k * n + static_cast<std::size_t>(i)];
+}
+
+/// Value of key k (components beyond the channel's are 0).
+Eigen::Vector4d key(const Channel& c, std::size_t k) {
+  Eigen::Vector4d v = Eigen::Vector4d::Zero();
+  for (int i = 0; i < c.components(); ++i) v[i] = key_component(c, k, 1, i);
+  return v;
+}
+
+Eigen::Quaterniond quat(const Eigen::Vector4d& v) { return Eigen::Quaterniond(v[3], v[0], v[1], v[2]); }
+
+/// Component i of glTF's cubic Hermite spline between keys k0 and k1.
+double hermite(const Channel& c, const Interval& iv, int i) {
+  const double t = iv.alpha, t2 = t * t, t3 = t2 * t;
+  return (2 * t3 - 3 * t2 + 1) * key_component(c, iv.k0, 1, i) +
+         (t3 - 2 * t2 + t) * iv.dt * key_component(c, iv.k0, 2, i) + (-2 * t3 + 3 * t2) * key_component(c, iv.k1, 1, i) +
+         (t3 - t2) * iv.dt * key_component(c, iv.k1, 0, i);
 }
 
 /// The morph weights of a weights channel at the interval, as the file says to interpolate them
@@ -63,22 +61,20 @@ void evaluate_weights(const Channel& c, const Interval& iv, std::vector<float>& 
   const int n = c.components();
   out.resize(static_cast<std::size_t>(n));
   const bool hold = c.interpolation == Interpolation::step || iv.k0 == iv.k1;
-  const double t = hold ? 0.0 : iv.alpha, t2 = t * t, t3 = t2 * t;
-  for (int i = 0; i < n; ++i) {
-    const double v0 = key_component(c, iv.k0, 1, i), v1 = key_component(c, iv.k1, 1, i);
-    double v = (1 - t) * v0 + t * v1;
-    if (c.interpolation == Interpolation::cubic_spline && !hold)
-      v = (2 * t3 - 3 * t2 + 1) * v0 + (t3 - 2 * t2 + t) * iv.dt * key_component(c, iv.k0, 2, i) +
-          (-2 * t3 + 3 * t2) * v1 + (t3 - t2) * iv.dt * key_component(c, iv.k1, 0, i);
-    out[static_cast<std::size_t>(i)] = static_cast<float>(v);
-  }
+  const double t = hold ? 0.0 : iv.alpha;
+  for (int i = 0; i < n; ++i)
+    out[static_cast<std::size_t>(i)] = static_cast<float>(
+        c.interpolation == Interpolation::cubic_spline && !hold
+            ? hermite(c, iv, i)
+            : (1 - t) * key_component(c, iv.k0, 1, i) + t * key_component(c, iv.k1, 1, i));
 }
 
 /// Translation, rotation or scale of one channel at the interval, blended in `mode`.
 void evaluate(const Channel& c, const Interval& iv, BlendMode mode, Transform& out) {
   if (c.interpolation == Interpolation::cubic_spline && iv.k0 != iv.k1) {
     // Tangents have no versor meaning: splines are always evaluated as the file says.
-    const Eigen::Vector4d v = hermite(c, iv);
+    Eigen::Vector4d v = Eigen::Vector4d::Zero();
+    for (int i = 0; i < c.components(); ++i) v[i] = hermite(c, iv, i);
     if (c.path == ChannelPath::translation)
       out.translation = v.head<3>();
     else if (c.path == ChannelPath::scale)

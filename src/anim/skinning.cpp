@@ -30,6 +30,17 @@ bool is_motor(const cga::Versor<T>& v) {
 using mesh::Mesh;
 using mesh::RowMatrixXf;
 
+/// The rest rows a skinning job reads, vertex i at row i - first: the mesh's own rows (first 0),
+/// or the job's rows with the frame's morph targets applied (morph_rows()).
+struct RestRows {
+  const RowMatrixXf<3>& positions;
+  const RowMatrixXf<3>& normals;
+  Eigen::Index first = 0;
+
+  [[nodiscard]] Eigen::Vector3f position(Eigen::Index i) const { return positions.row(i - first).transpose(); }
+  [[nodiscard]] Eigen::Vector3f normal(Eigen::Index i) const { return normals.row(i - first).transpose(); }
+};
+
 /// Global joint of palette entry k, and its inverse bind (identity for a static mesh).
 int palette_joint(const Mesh& m, std::size_t k) { return m.skin.empty() ? m.node : m.skin.palette[k]; }
 std::size_t palette_size(const Mesh& m) { return m.skin.empty() ? 1 : m.skin.palette.size(); }
@@ -124,11 +135,10 @@ V blend_versor(const Mesh& mesh, std::span<const V> palette, Eigen::Index i) {
 
 /// Versor skinning: per vertex, blend the palette versors, renormalise, one sandwich.
 template <class V>
-void skin_blended(const Mesh& mesh, std::span<const V> palette, Eigen::Index begin, Eigen::Index end,
-                  RowMatrixXf<3>& out) {
+void skin_blended(const Mesh& mesh, const RestRows& rest, std::span<const V> palette, Eigen::Index begin,
+                  Eigen::Index end, RowMatrixXf<3>& out) {
   for (Eigen::Index i = begin; i < end; ++i) {
-    const cga::Vector<float> y =
-        cga::unit_sandwich(blend_versor(mesh, palette, i), cga::up(Eigen::Vector3f(mesh.positions.row(i).transpose())));
+    const cga::Vector<float> y = cga::unit_sandwich(blend_versor(mesh, palette, i), cga::up(rest.position(i)));
     const float inv = 1.0f / y.get<cga::blade::eo>();
     out.row(i) << y[0] * inv, y[1] * inv, y[2] * inv;
   }
@@ -136,27 +146,23 @@ void skin_blended(const Mesh& mesh, std::span<const V> palette, Eigen::Index beg
 
 /// Versor skinning of normals: the Euclidean part of the blended versor's sandwich of n.
 template <class V>
-void skin_blended_normals(const Mesh& mesh, std::span<const V> palette, Eigen::Index begin, Eigen::Index end,
-                          RowMatrixXf<3>& out) {
+void skin_blended_normals(const Mesh& mesh, const RestRows& rest, std::span<const V> palette, Eigen::Index begin,
+                          Eigen::Index end, RowMatrixXf<3>& out) {
   for (Eigen::Index i = begin; i < end; ++i) {
-    cga::Vector<float> n;
-    n[0] = mesh.normals(i, 0);
-    n[1] = mesh.normals(i, 1);
-    n[2] = mesh.normals(i, 2);
-    const cga::Vector<float> y = cga::unit_sandwich(blend_versor(mesh, palette, i), n);
+    const Eigen::Vector3f r = rest.normal(i);
+    const cga::Vector<float> y = cga::unit_sandwich(blend_versor(mesh, palette, i), cga::euclidean<float>(r.x(), r.y(), r.z()));
     out.row(i) << y[0], y[1], y[2];
   }
 }
 
 /// The scalar kernel, positions: one vertex at a time.
-void skin_positions(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
-                    RowMatrixXf<3>& out) {
-  const auto& rest = mesh.positions;
+void skin_positions(const Mesh& mesh, const RestRows& rest, const SkinningPalette& p, Eigen::Index begin,
+                    Eigen::Index end, RowMatrixXf<3>& out) {
   switch (p.mode) {
     case SkinningMode::cga:
     case SkinningMode::matrix:
       for (Eigen::Index i = begin; i < end; ++i) {
-        const Eigen::Vector3f x = rest.row(i).transpose();
+        const Eigen::Vector3f x = rest.position(i);
         Eigen::Vector3f y = Eigen::Vector3f::Zero();
         for_each_influence(mesh, i, [&](int k, float w) {
           const auto& a = p.affine[k];
@@ -167,16 +173,16 @@ void skin_positions(const Mesh& mesh, const SkinningPalette& p, Eigen::Index beg
       return;
     case SkinningMode::versor:
       if (!p.motors.empty())
-        skin_blended(mesh, std::span(p.motors), begin, end, out);
+        skin_blended(mesh, rest, std::span(p.motors), begin, end, out);
       else
-        skin_blended(mesh, std::span(p.versors), begin, end, out);
+        skin_blended(mesh, rest, std::span(p.versors), begin, end, out);
       return;
     case SkinningMode::dqs:
       for (Eigen::Index i = begin; i < end; ++i) {
         Eigen::Quaternionf q, d;
         blend_dual_quaternion(mesh, p, i, q, d);
         const Eigen::Vector3f t = 2.0f * (d * q.conjugate()).vec();
-        Eigen::Vector3f x = rest.row(i).transpose();
+        Eigen::Vector3f x = rest.position(i);
         if (!p.scales.empty()) x = blend_scale(mesh, p, i) * x;
         out.row(i) = (q * x + t).transpose();
       }
@@ -184,29 +190,29 @@ void skin_positions(const Mesh& mesh, const SkinningPalette& p, Eigen::Index beg
   }
 }
 
-/// The scalar kernel, normals (mesh.normals has #V rows).
-void skin_normal_rows(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
-                      RowMatrixXf<3>& out) {
+/// The scalar kernel, normals (the mesh has #V normals).
+void skin_normal_rows(const Mesh& mesh, const RestRows& rest, const SkinningPalette& p, Eigen::Index begin,
+                      Eigen::Index end, RowMatrixXf<3>& out) {
   switch (p.mode) {
     case SkinningMode::cga:
     case SkinningMode::matrix:
       for (Eigen::Index i = begin; i < end; ++i) {
         Eigen::Matrix3f l = Eigen::Matrix3f::Zero();
         for_each_influence(mesh, i, [&](int k, float w) { l += w * p.affine[k].leftCols<3>(); });
-        out.row(i) = (cofactor(l) * Eigen::Vector3f(mesh.normals.row(i).transpose())).transpose();
+        out.row(i) = (cofactor(l) * rest.normal(i)).transpose();
       }
       break;
     case SkinningMode::versor:
       if (!p.motors.empty())
-        skin_blended_normals(mesh, std::span(p.motors), begin, end, out);
+        skin_blended_normals(mesh, rest, std::span(p.motors), begin, end, out);
       else
-        skin_blended_normals(mesh, std::span(p.versors), begin, end, out);
+        skin_blended_normals(mesh, rest, std::span(p.versors), begin, end, out);
       break;
     case SkinningMode::dqs:
       for (Eigen::Index i = begin; i < end; ++i) {
         Eigen::Quaternionf q, d;
         blend_dual_quaternion(mesh, p, i, q, d);
-        Eigen::Vector3f n = mesh.normals.row(i).transpose();
+        Eigen::Vector3f n = rest.normal(i);
         if (!p.scales.empty()) n = cofactor(blend_scale(mesh, p, i)) * n;
         out.row(i) = (q * n).transpose();
       }
@@ -217,7 +223,7 @@ void skin_normal_rows(const Mesh& mesh, const SkinningPalette& p, Eigen::Index b
     if (len > 0 && std::isfinite(len))
       out.row(i) /= len;
     else
-      out.row(i) = mesh.normals.row(i);
+      out.row(i) = rest.normal(i).transpose();
   }
 }
 
@@ -419,10 +425,9 @@ double exact_displacement(const Mesh& mesh, std::span<const Eigen::Matrix4d> glo
 
 namespace {
 
-/// skin_range() of a mesh whose morph targets are applied already (or unused).
-void skin_unmorphed_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
-                          RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel,
-                          SkinningStores stores) {
+/// skin_range() reading the rest rows `rest` (the mesh's, or the job's morphed rows).
+void skin_rows(const Mesh& mesh, const RestRows& rest, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
+               RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel, SkinningStores stores) {
   kernel = resolve(kernel);
   normals = normals && mesh.normals.rows() > 0 ? normals : nullptr;
   validate(mesh, p, begin, end, positions, normals);
@@ -435,27 +440,38 @@ void skin_unmorphed_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Ind
     const std::size_t bytes = static_cast<std::size_t>(mesh.vertex_count()) * (normals ? 72 : 48);
     const bool streaming =
         stores == SkinningStores::streaming || (stores == SkinningStores::automatic && bytes > streaming_bytes());
-    const detail::BlockJob job{&mesh, &p, positions.data(), normals ? normals->data() : nullptr, streaming};
+    const detail::BlockJob job{&mesh,
+                               &p,
+                               rest.positions.data(),
+                               normals ? rest.normals.data() : nullptr,
+                               rest.first,
+                               positions.data(),
+                               normals ? normals->data() : nullptr,
+                               streaming};
     // A block a lane cannot do runs one vertex at a time (which reports the problem).
     for (Eigen::Index stop; (stop = blocks(job, begin, end)) < end - (end - begin) % 8;) {
-      skin_positions(mesh, p, stop, stop + 8, positions);
-      if (normals) skin_normal_rows(mesh, p, stop, stop + 8, *normals);
+      skin_positions(mesh, rest, p, stop, stop + 8, positions);
+      if (normals) skin_normal_rows(mesh, rest, p, stop, stop + 8, *normals);
       begin = stop + 8;
     }
     begin = end - (end - begin) % 8;
   }
-  skin_positions(mesh, p, begin, end, positions);
-  if (normals) skin_normal_rows(mesh, p, begin, end, *normals);
+  skin_positions(mesh, rest, p, begin, end, positions);
+  if (normals) skin_normal_rows(mesh, rest, p, begin, end, *normals);
 }
 
 }  // namespace
 
 void skin_range(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Eigen::Index end,
                 RowMatrixXf<3>& positions, RowMatrixXf<3>* normals, SkinningKernel kernel, SkinningStores stores) {
-  if (p.morph_weights.empty())
-    skin_unmorphed_range(mesh, p, begin, end, positions, normals, kernel, stores);
-  else
-    skin_unmorphed_range(morphed(mesh, p.morph_weights), p, begin, end, positions, normals, kernel, stores);
+  if (p.morph_weights.empty()) {
+    skin_rows(mesh, {mesh.positions, mesh.normals}, p, begin, end, positions, normals, kernel, stores);
+    return;
+  }
+  // The job morphs its own rows only (glTF's order: morph, then skin).
+  RowMatrixXf<3> rest_positions, rest_normals;
+  morph_rows(mesh, p.morph_weights, begin, end, rest_positions, normals ? &rest_normals : nullptr);
+  skin_rows(mesh, {rest_positions, rest_normals, begin}, p, begin, end, positions, normals, kernel, stores);
 }
 
 Eigen::Matrix<double, 3, 4> blended_affine(const Mesh& mesh, const SkinningPalette& palette, Eigen::Index i) {
@@ -472,11 +488,8 @@ void skin_into(const Mesh& mesh, const SkinningPalette& palette, RowMatrixXf<3>&
   const SkinningKernel kernel = resolve(options.kernel);
   if (positions.rows() != mesh.vertex_count()) positions.resize(mesh.vertex_count(), 3);
   if (normals && normals->rows() != mesh.normals.rows()) normals->resize(mesh.normals.rows(), 3);
-  // The morphed rest mesh is made once for all jobs.
-  const Mesh morphed_mesh = palette.morph_weights.empty() ? Mesh() : morphed(mesh, palette.morph_weights);
-  const Mesh& rest = palette.morph_weights.empty() ? mesh : morphed_mesh;
   detail::parallel_for(mesh.vertex_count(), options.threads, [&](Eigen::Index begin, Eigen::Index end) {
-    skin_unmorphed_range(rest, palette, begin, end, positions, normals, kernel, options.stores);
+    skin_range(mesh, palette, begin, end, positions, normals, kernel, options.stores);
   });
 }
 

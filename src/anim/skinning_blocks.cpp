@@ -278,7 +278,7 @@ inline void block_affine(const BlockJob& job, const Influences& f, Index i) noex
   }
   // Each vertex's map applied as it is (measured faster than across lanes), the same whether or
   // not normals are asked for, so positions do not depend on it.
-  const float* x = job.mesh->positions.data() + 3 * i;
+  const float* x = job.rest_position(i);
   float* y = job.positions + 3 * i;
   // Streaming stores write whole 16-byte lines: the block is put together on the stack first.
   float block[24];
@@ -298,7 +298,7 @@ inline void block_affine(const BlockJob& job, const Influences& f, Index i) noex
   transpose(lo);  // A's columns 0, 1: rows 0-2, 4-6
   transpose(hi);  // A's column 2: rows 0-2
   const Xyz8 c0{lo[0], lo[1], lo[2]}, c1{lo[4], lo[5], lo[6]}, c2{hi[0], hi[1], hi[2]};
-  const Xyz8 n = load_xyz(job.mesh->normals.data() + 3 * i);
+  const Xyz8 n = load_xyz(job.rest_normal(i));
   const Xyz8 k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);
   store_xyz(job.normals + 3 * i,
             unit_or({k0.x * n.x + k1.x * n.y + k2.x * n.z, k0.y * n.x + k1.y * n.y + k2.y * n.z,
@@ -370,7 +370,7 @@ inline bool block_versor(const BlockJob& job, const Influences& f, Index i) noex
     }
   }
   if (!normalize(v)) return false;
-  const Xyz8 x = load_xyz(job.mesh->positions.data() + 3 * i);
+  const Xyz8 x = load_xyz(job.rest_position(i));
   if constexpr (M == cga::mask::motor) {
     // A unit motor T R maps points affinely (cga::motor_affine_matrix): x -> A x + t, A's
     // columns the rotor's sandwiches R eⱼ ~R, t from the translator ⟨V ~R⟩: fewer products than
@@ -392,7 +392,7 @@ inline bool block_versor(const BlockJob& job, const Influences& f, Index i) noex
     store_xyz(job.positions + 3 * i, {y.x + minus_two * t[1], y.y + minus_two * t[2], y.z + minus_two * t[3]},
               job.streaming);
     if (!job.normals) return true;
-    const Xyz8 n = load_xyz(job.mesh->normals.data() + 3 * i);
+    const Xyz8 n = load_xyz(job.rest_normal(i));
     store_xyz(job.normals + 3 * i, unit_or(map(n), n), job.streaming);
     return true;
   }
@@ -401,7 +401,7 @@ inline bool block_versor(const BlockJob& job, const Influences& f, Index i) noex
   const F8 inv = F8(1.0) / y.get<cga::blade::eo>();
   store_xyz(job.positions + 3 * i, {y[0] * inv, y[1] * inv, y[2] * inv}, job.streaming);
   if (!job.normals) return true;
-  const Xyz8 n = load_xyz(job.mesh->normals.data() + 3 * i);
+  const Xyz8 n = load_xyz(job.rest_normal(i));
   const cga::Vector<F8> yn = cga::unit_sandwich(v, cga::euclidean<F8>(n.x, n.y, n.z));
   store_xyz(job.normals + 3 * i, unit_or({yn[0], yn[1], yn[2]}, n), job.streaming);
   return true;
@@ -446,7 +446,7 @@ inline void block_dqs(const BlockJob& job, const Influences& f, Index i) noexcep
   const Xyz8 du = cross(d, u);
   const Xyz8 t{F8(2.0) * (w * d.x - dw * u.x - du.x), F8(2.0) * (w * d.y - dw * u.y - du.y),
                F8(2.0) * (w * d.z - dw * u.z - du.z)};
-  Xyz8 x = load_xyz(job.mesh->positions.data() + 3 * i);
+  Xyz8 x = load_xyz(job.rest_position(i));
   const Xyz8 s0{s[0], s[1], s[2]}, s1{s[3], s[4], s[5]}, s2{s[6], s[7], s[8]};  // columns of S
   if (scaled)
     x = {s0.x * x.x + s1.x * x.y + s2.x * x.z, s0.y * x.x + s1.y * x.y + s2.y * x.z,
@@ -454,7 +454,7 @@ inline void block_dqs(const BlockJob& job, const Influences& f, Index i) noexcep
   const Xyz8 y = rotate(u, w, x);
   store_xyz(job.positions + 3 * i, {y.x + t.x, y.y + t.y, y.z + t.z}, job.streaming);
   if (!job.normals) return;
-  const Xyz8 n = load_xyz(job.mesh->normals.data() + 3 * i);
+  const Xyz8 n = load_xyz(job.rest_normal(i));
   Xyz8 m = n;
   if (scaled) {
     const Xyz8 k0 = cross(s1, s2), k1 = cross(s2, s0), k2 = cross(s0, s1);

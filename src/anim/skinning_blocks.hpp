@@ -10,14 +10,21 @@
 
 namespace cgamesh::detail {
 
-/// One skinning job's arrays: rows of the mesh's vertices in, rows of `positions` (and
-/// `normals`, when not null) out, #V×3 row-major each.
+/// One skinning job's arrays: rest rows in, rows of `positions` (and `normals`, when not null)
+/// out, #V×3 row-major each. The rest rows are the mesh's (rest_first 0) or the job's own rows
+/// with the frame's morph targets applied, vertex i at row i - rest_first.
 struct BlockJob {
-  const mesh::Mesh* mesh;
+  const mesh::Mesh* mesh;  ///< influences
   const anim::SkinningPalette* palette;
+  const float* rest_positions;
+  const float* rest_normals;  ///< null: positions only
+  Eigen::Index rest_first;
   float* positions;
   float* normals;  ///< null: positions only
   bool streaming;  ///< write the rows with non-temporal stores (anim::SkinningStores::streaming)
+
+  [[nodiscard]] const float* rest_position(Eigen::Index i) const noexcept { return rest_positions + 3 * (i - rest_first); }
+  [[nodiscard]] const float* rest_normal(Eigen::Index i) const noexcept { return rest_normals + 3 * (i - rest_first); }
 };
 
 /// Skins the whole blocks of 8 vertices in [begin, end) and returns the first vertex it left:

@@ -190,9 +190,44 @@ TEST(MorphTargets, SparseTargetsOfARealHeadPoseAsThreeJsOnceWritten) {
 
 TEST(MorphTargets, WeightsThatDoNotFitTheMeshAreRefused) {
   const anim::RiggedModel model = io::load_model(kRig);
-  const std::vector<float> three{0, 0, 0}, nan{0, NAN};
-  EXPECT_THROW((void)anim::morphed(model.meshes[0], three), InvalidInputError);
-  EXPECT_THROW((void)anim::morphed(model.meshes[0], nan), InvalidInputError);
+  const std::vector<float> three{0, 0, 0}, nan{0, NAN}, two{0.5f, 0.5f};
+  mesh::RowMatrixXf<3> p, n;
+  const mesh::Mesh& m = model.meshes[0];
+  EXPECT_THROW(anim::morph_rows(m, three, 0, m.vertex_count(), p, &n), InvalidInputError);
+  EXPECT_THROW(anim::morph_rows(m, nan, 0, m.vertex_count(), p, &n), InvalidInputError);
+  EXPECT_THROW(anim::morph_rows(m, two, 1, m.vertex_count() + 1, p, &n), InvalidInputError);
+  EXPECT_THROW(anim::morph_rows(m, two, 2, 1, p, &n), InvalidInputError);
+}
+
+TEST(MorphTargets, AJobMorphsItsOwnRowsAsTheWholeMeshWould) {
+  const anim::RiggedModel model = io::load_model(kRig);
+  const mesh::Mesh& m = model.meshes[0];
+  ASSERT_EQ(m.morph_targets.size(), 2u);
+  const std::vector<float> weights{0.7f, -0.4f};
+  mesh::RowMatrixXf<3> all_p, all_n, p, n;
+  anim::morph_rows(m, weights, 0, m.vertex_count(), all_p, &all_n);
+  EXPECT_GT((all_p - m.positions).cwiseAbs().maxCoeff(), 0.1f) << "the weights move the mesh";
+  const Eigen::Index begin = m.vertex_count() / 3, end = m.vertex_count() - 2;
+  anim::morph_rows(m, weights, begin, end, p, &n);
+  ASSERT_EQ(p.rows(), end - begin);
+  EXPECT_EQ(Eigen::MatrixXf(p), Eigen::MatrixXf(all_p.middleRows(begin, end - begin)));
+  for (Eigen::Index v = begin; v < end; ++v)
+    EXPECT_LE((Eigen::RowVector3f(p.row(v - begin) - m.positions.row(v)) - anim::morph_offset(m, weights, v).transpose())
+                  .norm(),
+              1e-6f);
+  // Skinning in jobs of 13 vertices (a block of 8 and 5 single ones, each job morphing its own
+  // rows) equals skinning the whole mesh at once.
+  const anim::Pose pose = pose_at(model, 0.6);
+  const auto gv = anim::global_versors(model.skeleton, pose);
+  const auto gm = anim::global_matrices(model.skeleton, pose);
+  const anim::SkinningPalette palette = anim::make_palette(m, gv, gm, SkinningMode::cga, weights);
+  mesh::RowMatrixXf<3> whole, whole_n;
+  anim::skin_into(m, palette, whole, &whole_n, {.threads = 1});
+  mesh::RowMatrixXf<3> jobs(m.vertex_count(), 3), jobs_n(m.vertex_count(), 3);
+  for (Eigen::Index b = 0; b < m.vertex_count(); b += 13)
+    anim::skin_range(m, palette, b, std::min<Eigen::Index>(b + 13, m.vertex_count()), jobs, &jobs_n);
+  EXPECT_LE((jobs - whole).cwiseAbs().maxCoeff(), 1e-6f);
+  EXPECT_LE((jobs_n - whole_n).cwiseAbs().maxCoeff(), 1e-6f);
 }
 
 TEST(MorphTargets, VerticesThatMorphApartAreNotJoined) {
