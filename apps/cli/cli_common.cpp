@@ -75,6 +75,9 @@ void PoseChoice::add_to(CLI::App& sub) {
   sub.add_option("--blend", blend, "key blending: format, linear or log")
       ->transform(CLI::CheckedTransformer(kBlendModes, CLI::ignore_case));
   sub.add_option("--set", sets, "JOINT:rotate=AX,AY,AZ,DEG | JOINT:translate=X,Y,Z | JOINT:scale=S (repeatable)");
+  sub.add_option("--morph", morphs,
+                 "TARGET=W: morph target (blend shape) TARGET at weight W, over the clip's or the file's weights "
+                 "(repeatable; `info` lists the targets)");
   sub.add_flag("--bind-pose", bind, "the bind pose (the default; excludes --anim and --time)")
       ->excludes(a)
       ->excludes(const_cast<CLI::Option*>(time_option));
@@ -114,6 +117,14 @@ PoseChoice::Chosen PoseChoice::choose(const anim::RiggedModel& model) const {
   if (!sets.empty()) {
     out.report["edits"] = sets;
     out.text += " + " + std::to_string(sets.size()) + (sets.size() == 1 ? " edit" : " edits");
+  }
+  for (const std::string& m : morphs) {
+    const anim::MorphSetting setting = io::parse_morph_setting(m);
+    anim::set_morph_weight(out.pose, model.meshes, setting.target, setting.weight);
+  }
+  if (!morphs.empty()) {
+    out.report["morph"] = morphs;
+    out.text += " + " + std::to_string(morphs.size()) + (morphs.size() == 1 ? " morph weight" : " morph weights");
   }
   return out;
 }

@@ -52,6 +52,7 @@ struct PoseChoice {
   double time = 0;
   anim::BlendMode blend = anim::BlendMode::format;
   std::vector<std::string> sets;
+  std::vector<std::string> morphs;  ///< --morph TARGET=W
   bool bind = false;
   const CLI::Option* time_option = nullptr;  ///< set by add_to(); given or not
 
@@ -63,10 +64,11 @@ struct PoseChoice {
     std::vector<std::string> warnings;  ///< --time past the clip's end, or without a clip
   };
 
-  /// Adds --anim, --time, --blend, --set and --bind-pose to `sub`.
+  /// Adds --anim, --time, --blend, --set, --morph and --bind-pose to `sub`.
   void add_to(CLI::App& sub);
   /// The chosen pose of `model`.
-  /// @throws InvalidInputError for a bad time, an unknown clip or joint, or a malformed edit.
+  /// @throws InvalidInputError for a bad time, an unknown clip, joint or morph target, or a
+  ///         malformed edit or weight.
   [[nodiscard]] Chosen choose(const anim::RiggedModel& model) const;
 };
 

@@ -12,6 +12,8 @@
 #include <iostream>
 #include <map>
 #include <numbers>
+#include <set>
+#include <span>
 #include <utility>
 
 #include <GLFW/glfw3.h>
@@ -155,6 +157,7 @@ class Viewer {
   void update_preview();
   void apply_deformation();
   void deformation_panel();
+  void morph_panel();
   void log(const session::OperationReport& r);
   void failed(const std::string& what);
   void screenshot(const std::string& path) const;
@@ -757,6 +760,38 @@ void Viewer::joint_tree(int joint, const std::vector<std::vector<int>>& children
   }
 }
 
+/// A slider per morph target (targets of one name on several meshes share one), over the weights
+/// the clip or the file gives.
+void Viewer::morph_panel() {
+  const anim::RiggedModel& model = session_.model();
+  if (std::none_of(model.meshes.begin(), model.meshes.end(), [](const mesh::Mesh& m) { return !m.morph_targets.empty(); }) ||
+      !ImGui::CollapsingHeader("Morph targets", ImGuiTreeNodeFlags_DefaultOpen))
+    return;
+  const anim::Pose pose = session_.pose();
+  std::set<std::string> names;
+  for (const mesh::Mesh& m : model.meshes)
+    for (const mesh::MorphTarget& t : m.morph_targets) names.insert(t.name);
+  // Up to 8 sliders in view; more scroll (bitmoji's head has 82).
+  const float rows = static_cast<float>(std::min<std::size_t>(names.size(), 8));
+  ImGui::BeginChild("targets",
+                    ImVec2(0, rows * ImGui::GetFrameHeightWithSpacing() + 2 * ImGui::GetStyle().WindowPadding.y), true);
+  std::set<std::string> shown;
+  for (const mesh::Mesh& m : model.meshes) {
+    const std::span<const float> weights = anim::morph_weights(pose, m);
+    for (std::size_t k = 0; k < m.morph_targets.size(); ++k) {
+      const std::string& name = m.morph_targets[k].name;
+      if (!shown.insert(name).second) continue;
+      float w = k < weights.size() ? weights[k] : 0.0f;
+      ImGui::PushID(static_cast<int>(shown.size()));
+      if (ImGui::SliderFloat(name.empty() ? "(unnamed)" : name.c_str(), &w, 0, 1, "%.3f"))
+        guarded("morph weight", [&] { session_.set_morph_weight(name, w); });
+      ImGui::PopID();
+    }
+  }
+  ImGui::EndChild();
+  if (ImGui::Button("Reset morph weights")) session_.clear_morph_weights();
+}
+
 void Viewer::panel() {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(360, static_cast<float>(win_height_) - 16), ImGuiCond_FirstUseEver);
@@ -865,6 +900,8 @@ void Viewer::panel() {
     ImGui::SameLine();
     if (ImGui::Button("Clear edits")) session_.clear_edits();
   }
+
+  morph_panel();
 
   if (ImGui::CollapsingHeader("Surgery", ImGuiTreeNodeFlags_DefaultOpen)) {
     int tool = static_cast<int>(tool_);

@@ -256,6 +256,16 @@ def test_morph_targets_and_weights():
         clip_weights[0], 0.8]}))[0])
 
 
+def test_morph_weights_equal_the_cli(tmp_path):
+    path = ROOT / "tests" / "assets" / "rigged_simple_morph.glb"
+    model = cgamesh.load(path)
+    pose = model.pose(clip=0, time=0.6, morph_weights={"tip": 0.8, "bulge": -0.5})
+    run_cli("pose", path, "--anim", "0", "--time", "0.6", "--morph", "tip=0.8", "--morph", "bulge=-0.5", "-o",
+            tmp_path / "cli.obj")
+    np.testing.assert_array_equal(model.skin(pose)[0], read_obj(tmp_path / "cli.obj")[0])
+    assert run_cli_json("pose", path, "--morph", "tip=1", "-o", tmp_path / "b.obj")["pose"]["morph"] == ["tip=1"]
+
+
 @pytest.mark.parametrize("weights, message", [({"smile": 1.0}, "'bulge', 'tip'"), ({3: [0, 0]}, "1 meshes"),
                                               ({0: [1.0]}, "2 morph targets"), ({"tip": float("nan")}, "NaN")])
 def test_bad_morph_weights_raise_invalid_input(weights, message):

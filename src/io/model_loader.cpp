@@ -354,6 +354,8 @@ class Loader {
       const aiAnimMesh& a = *in.mAnimMeshes[k];
       mesh::MorphTarget t;
       t.name = name(a.mName);
+      // A target must be addressable by name (--morph, sliders, Python): an unnamed one gets its number.
+      if (t.name.empty()) t.name = "target_" + std::to_string(k);
       if (a.mNumVertices != in.mNumVertices) {
         warn("morph target " + std::to_string(k) + " ('" + t.name + "') of mesh '" + m.name + "' has " +
              std::to_string(a.mNumVertices) + " vertices for the mesh's " + std::to_string(in.mNumVertices) +

@@ -2,7 +2,9 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -111,6 +113,17 @@ anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& te
     throw InvalidInputError("'" + kind + "': the edit must be rotate, translate or scale");
   }
   return e;
+}
+
+anim::MorphSetting parse_morph_setting(const std::string& text) {
+  const std::size_t eq = text.rfind('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InvalidInputError("'" + text + "': expected TARGET=WEIGHT (a morph target's name and a number)");
+  const double w = parse_numbers(text.substr(eq + 1), 1, "morph weight of '" + text.substr(0, eq) + "'")[0];
+  if (!(std::abs(w) <= std::numeric_limits<float>::max()))
+    throw InvalidInputError("morph weight of '" + text.substr(0, eq) + "': " + text.substr(eq + 1) +
+                            " is no finite float");
+  return {text.substr(0, eq), static_cast<float>(w)};
 }
 
 double max_translation(const anim::RiggedModel& model) {

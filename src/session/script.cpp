@@ -34,6 +34,8 @@ const std::map<std::string, Grammar>& grammar() {
       {"wait", {1, 1}},
       {"joint", {1, 1, nullptr, false, true}},
       {"unedit", {0, 0, nullptr, false, true}},
+      {"morph", {1, 1, nullptr, false, true}},
+      {"unmorph", {0, 0, nullptr, false, true}},
       {"key", {0, 0, nullptr, false, true}},
       {"generate", {0, 1, nullptr, false, true}},
       {"cut", {1, 1, "cap", false, true}},
@@ -147,6 +149,13 @@ ScriptAction parse_line(std::vector<std::string> words, int line, const std::str
   } else if (a.verb == "blend") {
     if (!io::kBlendModes.contains(words[0])) throw InvalidInputError(where + "blend: expected format, linear or log");
     a.text = words[0];
+  } else if (a.verb == "morph") {
+    try {
+      (void)io::parse_morph_setting(words[0]);
+    } catch (const InvalidInputError& e) {
+      throw InvalidInputError(where + "morph: " + e.what());
+    }
+    a.text = words[0];
   } else if (a.verb == "skinning") {
     if (!io::kSkinningModes.contains(words[0]))
       throw InvalidInputError(where + "skinning: expected cga, versor, matrix or dqs");
@@ -218,6 +227,11 @@ std::optional<OperationReport> apply(Session& session, const ScriptAction& a) {
     session.set_edit(e);
   } else if (a.verb == "unedit") {
     session.clear_edits();
+  } else if (a.verb == "morph") {
+    const anim::MorphSetting m = io::parse_morph_setting(a.text);
+    session.set_morph_weight(m.target, m.weight);
+  } else if (a.verb == "unmorph") {
+    session.clear_morph_weights();
   } else if (a.verb == "key") {
     session.add_key();
   } else if (a.verb == "generate") {

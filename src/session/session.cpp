@@ -123,6 +123,23 @@ void Session::clear_edits() {
   edits_.clear();
 }
 
+void Session::set_morph_weight(const std::string& target, float weight) {
+  anim::Pose probe = pose();
+  anim::set_morph_weight(probe, model().meshes, target, weight);  // checks the name and the weight
+  const auto it = std::find_if(morphs_.begin(), morphs_.end(),
+                               [&](const anim::MorphSetting& m) { return m.target == target; });
+  if (it != morphs_.end())
+    it->weight = weight;
+  else
+    morphs_.push_back({target, weight});
+  ++pose_version_;
+}
+
+void Session::clear_morph_weights() {
+  if (!morphs_.empty()) ++pose_version_;
+  morphs_.clear();
+}
+
 anim::Pose Session::pose() const { return pose_of(model()); }
 
 void Session::add_key() {
@@ -177,6 +194,13 @@ anim::Pose Session::pose_of(const anim::RiggedModel& m) const {
                      ? anim::sample(m.skeleton, m.clips[static_cast<std::size_t>(clip_)], time_, blend_)
                      : anim::rest_pose(m.skeleton);
   anim::apply_edits(p, edits_);
+  for (const anim::MorphSetting& s : morphs_) {
+    const bool has = std::any_of(m.meshes.begin(), m.meshes.end(), [&](const mesh::Mesh& me) {
+      return std::any_of(me.morph_targets.begin(), me.morph_targets.end(),
+                         [&](const mesh::MorphTarget& t) { return t.name == s.target; });
+    });
+    if (has) anim::set_morph_weight(p, m.meshes, s.target, s.weight);
+  }
   return p;
 }
 
@@ -230,6 +254,7 @@ std::string Session::pose_arguments() const {
              shell_word(joint + ":rotate=" + vector_text(e.axis) + "," + exact(e.angle * 180 / std::numbers::pi));
     if (e.scale != 1) out += " --set " + shell_word(joint + ":scale=" + exact(e.scale));
   }
+  for (const anim::MorphSetting& m : morphs_) out += " --morph " + shell_word(m.target + "=" + exact(m.weight));
   return out;
 }
 

@@ -248,6 +248,29 @@ TEST(CliView, WorksOnAnAssimpTestModel) {
   EXPECT_GT(cgamesh_test::silhouette(image, {255, 255, 255}).count(), 20000);
 }
 
+TEST(CliView, MorphWeightsChangeWhatIsShown) {
+  ASSERT_TRUE(xvfb_available()) << "xvfb-run is missing: scripts/install-deps.sh installs it";
+  TempDir dir;
+  const fs::path script = dir / "morph.txt", a = dir / "a.png", b = dir / "b.png";
+  {
+    std::ofstream s(script);
+    s << "morph bulge=1\nscreenshot \"" << a.string() << "\" panel\nunmorph\nscreenshot \"" << b.string() << "\"\n";
+  }
+  const Result r = run_view(dir.path(), {(fs::path(CGAMESH_TEST_ASSETS) / "rigged_simple_morph.glb").string(), "--script",
+                                         script.string(), "--size", "640x480"});
+  ASSERT_EQ(r.code, 0) << r;
+  const auto silhouette = [](const fs::path& p) {
+    const std::string png = read_file(p);
+    return cgamesh_test::silhouette(
+               cgamesh::render::decode_image(std::span(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()),
+                                             "png"),
+               {255, 255, 255})
+        .count();
+  };
+  // The bulge widens the cylinder by a fifth of its radius or more: more pixels are covered.
+  EXPECT_GT(silhouette(a), silhouette(b) * 11 / 10) << "bulge=1 against the file's weights";
+}
+
 TEST(CliView, BadScriptsAndMissingModelsExitWithTheirCodes) {
   Failure f;
   const fs::path script = f.inputs / "bad.txt";

@@ -17,6 +17,7 @@
 #include "cgamesh/surgery/pieces.hpp"
 #include "cgamesh/surgery/placement.hpp"
 
+#include "anim/model_fixtures.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -237,6 +238,40 @@ TEST(Session, BadEditsAndTimesAreRefused) {
   EXPECT_THROW(s.set_time(NAN), InvalidInputError);
   EXPECT_THROW(s.set_clip(99), InvalidInputError);
   EXPECT_THROW(s.save("out.txt"), InvalidInputError);
+}
+
+TEST(Session, MorphWeightsSetByNameGoIntoThePoseTheReplayAndScripts) {
+  using namespace cgamesh;
+  Session s(io::load_model(cgamesh_test::asset("rigged_simple_morph.glb")));
+  s.set_clip(0);
+  s.set_time(0.6);
+  const float clip_bulge = anim::morph_weights(s.pose(), s.model().meshes[0])[0];
+  s.set_morph_weight("tip", 0.75f);
+  const std::vector<float> expected{clip_bulge, 0.75f};
+  const anim::Pose pose = s.pose();
+  const std::span<const float> w = anim::morph_weights(pose, s.model().meshes[0]);
+  EXPECT_EQ(std::vector<float>(w.begin(), w.end()), expected);
+  EXPECT_THROW(s.set_morph_weight("smile", 1), InvalidInputError);
+  EXPECT_THROW(s.set_morph_weight("tip", NAN), InvalidInputError);
+  EXPECT_EQ(s.morph_settings().size(), 1u) << "a refused weight changes nothing";
+  // The replay command sets the same weight, and the pose survives an operation.
+  const auto cut = s.cut({0, 1, 0}, 0.5);
+  EXPECT_NE(cut.command.find(" --morph tip=0.75 "), std::string::npos) << cut.command;
+  EXPECT_EQ(anim::morph_weights(s.pose(), s.model().meshes[0])[1], 0.75f);
+  s.clear_morph_weights();
+  EXPECT_EQ(anim::morph_weights(s.pose(), s.model().meshes[0])[1],
+            anim::morph_weights(anim::sample(s.model().skeleton, s.model().clips[0], 0.6, anim::BlendMode::format),
+                                s.model().meshes[0])[1]);
+  // Scripts: morph TARGET=W and unmorph.
+  const auto actions = session::parse_script("morph tip=0.25\nmorph bulge=-1\nunmorph\n", "test");
+  ASSERT_EQ(actions.size(), 3u);
+  (void)session::apply(s, actions[0]);
+  (void)session::apply(s, actions[1]);
+  EXPECT_EQ(s.morph_settings().size(), 2u);
+  (void)session::apply(s, actions[2]);
+  EXPECT_TRUE(s.morph_settings().empty());
+  EXPECT_THROW((void)session::parse_script("morph tip\n", "test"), InvalidInputError);
+  EXPECT_THROW((void)session::parse_script("morph tip=x\n", "test"), InvalidInputError);
 }
 
 TEST(Session, SavesThePoseWithSkinnedNormals) {

@@ -3,6 +3,7 @@
 // make, which skinning then poses (glTF's order: morph, then skin).
 
 #include <span>
+#include <string>
 #include <string_view>
 
 #include <Eigen/Core>
@@ -24,6 +25,13 @@ namespace cgamesh::anim {
 /// @throws InvalidInputError when the mesh has no such target or no node (-1) to hold weights in
 ///         a pose, or `weight` is NaN or infinite.
 void set_morph_weight(Pose& pose, const mesh::Mesh& mesh, std::size_t target, float weight);
+
+/// A morph weight set by its target's name over what a clip or the file gives (a viewer's
+/// slider, the CLI's --morph NAME=W).
+struct MorphSetting {
+  std::string target;
+  float weight = 0;
+};
 
 /// Sets every morph target named `name`, on any mesh of `meshes`, to `weight` in `pose` (as the
 /// overload above).

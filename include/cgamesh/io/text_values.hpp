@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
@@ -41,6 +42,10 @@ inline constexpr double kMaxReach = 1e6;
 ///         zero axis or a translation out of reach.
 [[nodiscard]] anim::JointEdit parse_edit(const anim::Skeleton& skeleton, const std::string& text,
                                          double max_translation = INFINITY);
+
+/// "TARGET=W": morph target TARGET (a name; the last '=' ends it) at weight W.
+/// @throws InvalidInputError for a missing '=' or name, or a weight that is no finite number.
+[[nodiscard]] anim::MorphSetting parse_morph_setting(const std::string& text);
 
 /// The farthest an edit may translate a joint in `model`: kMaxReach times the diagonal of its
 /// bind-pose box.

@@ -35,7 +35,7 @@ struct Skin {
 /// mesh's vertices. At weight w the mesh is rest + w Δ, summed over its targets, before skinning
 /// (the glTF order).
 struct MorphTarget {
-  std::string name;          ///< the file's name (glTF mesh.extras.targetNames), or empty
+  std::string name;          ///< the file's name (glTF mesh.extras.targetNames); loaded unnamed: "target_K"
   RowMatrixXf<3> positions;  ///< #V x 3 displacement of each rest position
   RowMatrixXf<3> normals;    ///< #V x 3 displacement of each normal, or 0 rows
 };

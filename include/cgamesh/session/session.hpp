@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "cgamesh/anim/keyframes.hpp"
+#include "cgamesh/anim/morph.hpp"
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
@@ -91,7 +92,16 @@ class Session {
   void set_edit(const anim::JointEdit& edit);
   void clear_edits();
 
-  /// The pose shown: the clip sampled at the time (or the bind pose), then the edits.
+  /// Morph weights set by target name over the clip's or the file's, in the order first set.
+  [[nodiscard]] const std::vector<anim::MorphSetting>& morph_settings() const noexcept { return morphs_; }
+  /// Sets every morph target named `target` to `weight` (anim::set_morph_weight): a slider.
+  /// @throws InvalidInputError when no mesh has a target so named, or `weight` is not finite.
+  void set_morph_weight(const std::string& target, float weight);
+  /// Back to the clip's or the file's morph weights.
+  void clear_morph_weights();
+
+  /// The pose shown: the clip sampled at the time (or the bind pose), then the edits and the
+  /// morph settings.
   [[nodiscard]] anim::Pose pose() const;
 
   /// Keys the current edits at the current time (paper section 4: a keyframe is the bind pose
@@ -191,7 +201,8 @@ class Session {
   void trim_undo();
   /// Makes `model` the session's, placed in the current pose.
   void replace_model(anim::RiggedModel model);
-  /// The current clip, time, blend and edits applied to `model` (a clip it lacks: the bind pose).
+  /// The current clip, time, blend, edits and morph settings applied to `model` (a clip it lacks:
+  /// the bind pose; a morph target it lacks: no weight).
   [[nodiscard]] anim::Pose pose_of(const anim::RiggedModel& model) const;
   /// A clip that `model` no longer has (a generated clip undone or reset away) is unselected.
   void after_model_change(const anim::RiggedModel& model);
@@ -216,6 +227,7 @@ class Session {
   double time_ = 0;
   anim::BlendMode blend_ = anim::BlendMode::format;
   std::vector<anim::JointEdit> edits_;
+  std::vector<anim::MorphSetting> morphs_;
   std::vector<anim::Keyframe> keys_;
   std::vector<Snapshot> undo_, redo_;
   bool stroking_ = false;
