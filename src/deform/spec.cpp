@@ -21,6 +21,7 @@
 #include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/cga/versors.hpp"
 #include "cgamesh/deform/harmonic_handles.hpp"
+#include "cgamesh/deform/morph_transport.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/text_values.hpp"
 #include "cgamesh/mesh/normals.hpp"
@@ -998,6 +999,7 @@ anim::RiggedModel BoundDeformer::deformed_model(const anim::RiggedModel& model,
   mesh::Mesh& m = out.meshes[static_cast<std::size_t>(mesh_)];
   const mesh::RowMatrixXf<3> rest = to_mesh_space(positions);
   m.normals = mesh::reshaped_normals(m, rest);
+  transport_morph_targets(m, rest);
   m.positions = rest;
   return out;
 }

@@ -258,7 +258,8 @@ class BoundDeformer {
 
   /// The model with the mesh's rest shape replaced by `positions` (through to_mesh_space()), its
   /// skin, skeleton and clips kept, so that it re-animates; its normals, when it has any, are
-  /// those of the new shape with the old smoothing (mesh::reshaped_normals).
+  /// those of the new shape with the old smoothing (mesh::reshaped_normals); its morph targets
+  /// turn and stretch with the surface (transport_morph_targets).
   /// @param[in] model      the model bound (same meshes)
   /// @param[in] positions  #V×3 in space()
   /// @throws InvalidInputError when the model does not have the bound mesh's vertex count.
