@@ -69,9 +69,12 @@ void build_cdt(Cdt& cdt, std::span<const Eigen::Vector2d> points, std::span<cons
     if (cdt.number_of_vertices() > before) handles[i]->info() = static_cast<int>(i);
   }
   try {
-    for (const auto& e : edges)
-      if (e[0] != e[1])
-        cdt.insert_constraint(handles[static_cast<std::size_t>(e[0])], handles[static_cast<std::size_t>(e[1])]);
+    for (const auto& e : edges) {
+      const Cdt::Vertex_handle a = handles[static_cast<std::size_t>(e[0])], b = handles[static_cast<std::size_t>(e[1])];
+      // An edge between two points at one place (a zero-length edge of the section) is no
+      // constraint: CGAL cannot constrain a vertex to itself.
+      if (a != b) cdt.insert_constraint(a, b);
+    }
   } catch (const Cdt::Intersection_of_constraints_exception&) {
     throw TopologyError(what);
   }
