@@ -4,9 +4,6 @@
 
 namespace cgamesh::surgery {
 
-namespace {
-
-/// Per mesh of `model`, its `cga` palette in `pose` (eq. (17)'s maps).
 std::vector<anim::SkinningPalette> palettes(const anim::RiggedModel& model, const anim::Pose& pose) {
   const auto gv = anim::global_versors(model.skeleton, pose);
   const auto gm = anim::global_matrices(model.skeleton, pose);
@@ -15,8 +12,6 @@ std::vector<anim::SkinningPalette> palettes(const anim::RiggedModel& model, cons
     out.push_back(anim::make_palette(m, gv, gm, anim::SkinningMode::cga, anim::morph_weights(pose, m)));
   return out;
 }
-
-}  // namespace
 
 Placement place(const anim::RiggedModel& model, const anim::Pose& pose) {
   Placement out;

@@ -40,6 +40,11 @@ struct Placement {
   std::vector<anim::SkinningPalette> palettes;  ///< per mesh, the affine map of each palette entry
 };
 
+/// Per mesh of `model`, its `cga` palette in `pose` (eq. (17)'s maps, with the pose's morph
+/// weights): what place() skins with.
+/// @throws InvalidInputError when the pose does not fit the skeleton.
+[[nodiscard]] std::vector<anim::SkinningPalette> palettes(const anim::RiggedModel& model, const anim::Pose& pose);
+
 /// Skins every mesh of `model` in `pose` with eq. (17) (`cga` skinning).
 /// @throws InvalidInputError when the pose does not fit the skeleton.
 [[nodiscard]] Placement place(const anim::RiggedModel& model, const anim::Pose& pose);

@@ -1,0 +1,143 @@
+#pragma once
+// Living tissue (Kamarianakis & Papagiannakis §5, their next step): the skinned surface of a
+// surgery::LiveModel as an XPBD soft body (Macklin, Müller & Chentanez 2016, with small steps,
+// Macklin et al. 2019), so that cuts, tears and drills open, sag and keep animating.
+//
+// Particles are the surface's vertices welded by position (a seam is no crack), with lumped
+// masses (area × density). Each is attached to its target, its skinned position in the current
+// pose (eq. 17, the placement surgery uses); stretch and bending links take their rest values
+// from the skinned targets every substep (shortened by the pre-tension), so animation never
+// fights the simulation. Only a region around the wounds is simulated: elsewhere the tissue is
+// the skinned surface, and a step costs what the region holds.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cgamesh/anim/pose.hpp"
+#include "cgamesh/anim/rigged_model.hpp"
+#include "cgamesh/mesh/row_array.hpp"
+#include "cgamesh/soft/tissue_options.hpp"
+#include "cgamesh/surgery/live_model.hpp"
+
+namespace cgamesh::soft {
+
+/// What settle() did.
+struct SettleReport {
+  double seconds = 0;    ///< simulated time
+  int substeps = 0;
+  double max_speed = 0;  ///< of any particle at the end (model units per second)
+  bool settled = false;  ///< max_speed fell below the tolerance
+};
+
+/// The soft-tissue state of one LiveModel. The LiveModel is passed to each call (not kept), as
+/// it is edited in place between them; pass the same one, and every change it made through
+/// follow().
+class Tissue {
+ public:
+  /// Lumped masses of every vertex (the area of the faces around it / 3 × density, on the
+  /// placed surface); no region yet, so nothing is simulated.
+  /// @throws InvalidInputError as TissueOptions::validate().
+  explicit Tissue(const surgery::LiveModel& live, const TissueOptions& options = {});
+
+  [[nodiscard]] const TissueOptions& options() const noexcept { return options_; }
+
+  /// Follows an in-place cut, tear or drill (its MeshChanges), in time proportional to the
+  /// change and the region: new vertices get masses from their origins (the total is
+  /// conserved), positions and velocities interpolated from their origins' (no pop); the region
+  /// grows by region_radius around the new vertices, whose neighbourhood (release_margin) is
+  /// released from its attachments; links of removed faces go, those of new faces come.
+  /// @throws InvalidInputError when a change does not fit the model.
+  void follow(const surgery::LiveModel& live, std::span<const surgery::MeshChange> changes);
+
+  /// Adds the vertices of mesh `mesh` within `radius` of `center` (placed) to the region, as
+  /// wounds do, without releasing them.
+  /// @throws InvalidInputError for a mesh out of range or a negative or NaN radius.
+  void select(const surgery::LiveModel& live, int mesh, const Eigen::Vector3d& center, double radius);
+
+  /// Advances the tissue by `dt` seconds towards `pose` (targets interpolated from the last
+  /// pose over the substeps), in substeps of options().substep (the remainder carried over).
+  /// @throws InvalidInputError for a negative or non-finite dt; SolverError when the state
+  ///         diverges (it is then as before the call).
+  void step(const surgery::LiveModel& live, const anim::Pose& pose, double dt);
+
+  /// Steps in `pose` until every particle is slower than `tolerance` × the model's diagonal per
+  /// second, or `max_seconds` have passed.
+  /// @throws as step().
+  SettleReport settle(const surgery::LiveModel& live, const anim::Pose& pose, double max_seconds = 5.0,
+                      double tolerance = 1e-3);
+
+  /// The surface now: per mesh, #V×3 world positions, the skinned ones in `pose` outside the
+  /// region and the simulated ones inside it.
+  [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> positions(const surgery::LiveModel& live,
+                                                            const anim::Pose& pose) const;
+
+  /// The model with the simulated surface written back as rest positions through the inverse
+  /// of each vertex's skinning in `pose` (as surgery's exact rest positions are solved), so
+  /// that it animates with the wound as simulated: skinned in `pose`, it is positions(pose).
+  [[nodiscard]] anim::RiggedModel bake(const surgery::LiveModel& live, const anim::Pose& pose) const;
+
+  [[nodiscard]] double total_mass() const noexcept;
+  /// Simulated (free) particles.
+  [[nodiscard]] std::size_t free_particles() const noexcept;
+  /// All particles of the region (free and those pinned at its border).
+  [[nodiscard]] std::size_t particles() const noexcept { return x_.size(); }
+  [[nodiscard]] std::size_t links() const noexcept { return links_.size(); }
+
+ private:
+  struct Link {
+    int a, b;     ///< particles
+    float scale;  ///< rest length: scale × the skinned distance
+    float compliance;
+  };
+  struct VertexRef {
+    int mesh, vertex;  ///< the particle's representative vertex (its weld class's)
+  };
+  struct Member {
+    int mesh, vertex, particle;  ///< a vertex of the region and its particle
+  };
+  /// A ball of the region around a wound's vertex (followed as the model is placed again) or
+  /// around a fixed point (vertex −1).
+  struct Ball {
+    int mesh;
+    int vertex;
+    Eigen::Vector3d point;
+    double radius;
+    [[nodiscard]] Eigen::Vector3d center(const surgery::Placement& placed) const;
+  };
+
+  /// Writes the particles' state back to their vertices and empties the region's particles.
+  void save_state();
+  /// Particles and links of the region (the faces in its balls), from the per-vertex state.
+  void rebuild(const surgery::LiveModel& live);
+  /// Skinned target of every particle in `pose` (palettes made once).
+  void targets_in(const surgery::LiveModel& live, const anim::Pose& pose, std::vector<Eigen::Vector3d>& out) const;
+  /// One XPBD substep of length h towards targets `t`.
+  void substep(const std::vector<Eigen::Vector3d>& t, double h);
+
+  TissueOptions options_;
+  double radius_ = 0, margin_ = 0, diagonal_ = 0;
+  std::vector<Ball> balls_;     ///< the region: faces in these
+  std::vector<Ball> releases_;  ///< particles in these have no attachment
+  // Per mesh, per vertex.
+  std::vector<std::vector<double>> mass_;
+  std::vector<std::vector<int>> particle_of_;  ///< −1: not in the region
+  std::vector<std::vector<Eigen::Vector3d>> vx_, vv_;  ///< last known position and velocity
+  /// The save_state() that wrote vx_, vv_ (0: never): a vertex that left the region and comes
+  /// back has no state (its old one is from another time).
+  std::vector<std::vector<int>> saved_;
+  int generation_ = 0;
+  // Per particle.
+  std::vector<VertexRef> ref_;
+  std::vector<Member> members_;
+  std::vector<Eigen::Vector3d> x_, v_, previous_target_, scratch_;
+  std::vector<double> inverse_mass_;
+  std::vector<char> free_, attached_;
+  std::vector<Link> links_;
+  double carried_ = 0;  ///< simulated time owed from the last step (< substep)
+  bool have_targets_ = false;
+};
+
+}  // namespace cgamesh::soft
