@@ -14,6 +14,7 @@
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/soft/soft_operation.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
 #include "cgamesh/surgery/placement.hpp"
@@ -115,6 +116,58 @@ struct SurgeryCommand {
     std::cout << line << "\n  placed in the " << scene.pose.text << "\n";
     for (const auto& w : warnings) std::cout << "  warning: " << w << "\n";
   }
+
+  /// --soft and its tissue options (soft/tissue_options.hpp).
+  struct Soft {
+    bool on = false;
+    soft::TissueOptions options;
+    double stiffness = 1.0 / soft::TissueOptions{}.stretch_compliance;
+    std::string gravity = "0,-9.81,0";
+
+    void add_to(CLI::App& sub) {
+      sub.add_flag("--soft", on,
+                   "living tissue: the wound opens under the skin's tension (XPBD), settles, and is baked into "
+                   "the output so that it stays open as the model animates");
+      sub.add_option("--tension", options.pretension, "with --soft: skin pre-tension, a fraction in [0, 1)")
+          ->capture_default_str();
+      sub.add_option("--stiffness", stiffness, "with --soft: stretch stiffness (newtons per model unit)")
+          ->capture_default_str();
+      sub.add_option("--region", options.region_radius,
+                     "with --soft: radius of the simulated region around the wound (model units; 0: 10 % of the "
+                     "model's size)")
+          ->capture_default_str();
+      sub.add_option("--gravity", gravity, "with --soft: GX,GY,GZ (model units per s^2)")->capture_default_str();
+    }
+
+    /// The options given; checked.
+    [[nodiscard]] soft::TissueOptions tissue() const {
+      soft::TissueOptions o = options;
+      if (!(stiffness > 0) || !std::isfinite(stiffness))
+        throw InvalidInputError("--stiffness must be a finite number > 0");
+      o.stretch_compliance = 1.0 / stiffness;
+      const auto g = parse_numbers(gravity, 3, "--gravity");
+      o.gravity = {g[0], g[1], g[2]};
+      o.validate();
+      return o;
+    }
+
+    /// The report's "soft" entry.
+    [[nodiscard]] static Json json(const soft::WoundReport& r) {
+      return {{"wound_vertices", r.wound_vertices},
+              {"mean_opening", r.mean_opening},
+              {"max_opening", r.max_opening},
+              {"settled", r.settle.settled},
+              {"simulated_seconds", r.settle.seconds},
+              {"substeps", r.settle.substeps},
+              {"milliseconds", r.milliseconds}};
+    }
+    [[nodiscard]] static std::string text(const soft::WoundReport& r) {
+      return "\n  soft tissue: the wound opened by " + number(r.mean_opening) + " on average (at most " +
+             number(r.max_opening) + ") over " + std::to_string(r.wound_vertices) + " vertices, " +
+             (r.settle.settled ? "settled" : "not settled") + " after " + number(r.settle.seconds) +
+             " s simulated, in " + number(r.milliseconds) + " ms";
+    }
+  };
 
   void add_common(CLI::App& sub) {
     sub.add_option("MODEL", model, "model file")->required();
@@ -248,6 +301,10 @@ struct TearCommand : SurgeryCommand {
     options.predicates = predicates();
     options.rest = rest();
     double ms = 0;
+    if (soft.on) {
+      run_soft(scene, steps);
+      return;
+    }
     const surgery::ModelTear t =
         timed([&] { return surgery::tear(scene.model, scene.placement, scene.index, steps, options); }, ms);
     io::write_files_atomically(
@@ -268,6 +325,38 @@ struct TearCommand : SurgeryCommand {
                output,
            t.warnings);
   }
+
+  /// The tear in place, then the tissue settled and baked.
+  void run_soft(const Scene& scene, const std::vector<surgery::Scalpel>& steps) {
+    const soft::TissueOptions tissue = soft.tissue();
+    surgery::LiveModel live(scene.model, scene.placement);
+    surgery::LiveTear t;
+    double ms = 0;
+    const soft::SoftOperation s = timed(
+        [&] {
+          return soft::operate_soft(live, scene.pose.pose, tissue, [&](surgery::LiveModel& l) {
+            t = surgery::tear(l, steps, options);
+            return std::vector<surgery::MeshChange>{t.change};
+          });
+        },
+        ms);
+    io::write_files_atomically(encode_result(s.model, s.positions, scene.pose.pose, output));
+    report(output, ms, scene,
+           {{"mesh", t.change.mesh},
+            {"new_vertices", t.new_vertices},
+            {"intersection_points", t.intersection_points},
+            {"faces_in", t.faces_in},
+            {"faces_out", t.faces_out},
+            {"faces_split", t.faces_split},
+            {"soft", Soft::json(s.report)}},
+           "tear " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(t.intersection_points) +
+               " path points over " + std::to_string(steps.size() - 1) + " steps, " + std::to_string(t.faces_split) +
+               " faces split, " + std::to_string(t.faces_in) + " -> " + std::to_string(t.faces_out) + " faces" +
+               Soft::text(s.report) + "\n  -> " + output,
+           t.warnings);
+  }
+
+  Soft soft;
 };
 
 }  // namespace
@@ -323,6 +412,7 @@ void add_tear(CLI::App& app) {
   sub->add_option("--open", c->options.open, "opening width: the two sides move apart by up to this much (default 0)");
   sub->add_flag("--own-side-influences", c->options.own_side_influences,
                 "each side of the tear takes influences from its own side only");
+  c->soft.add_to(*sub);
   sub->callback([c] { c->run(); });
 }
 

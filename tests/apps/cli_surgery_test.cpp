@@ -369,3 +369,45 @@ TEST(CliSurgery, ObjOutputsCarryTheNormalsOfThePlacedSurface) {
   }
 }
 }  // namespace
+
+namespace {
+
+TEST(CliTearSoft, TheWoundOpensWithTheTensionAndTheResultAnimates) {
+  TempDir dir;
+  const std::string model = (fs::path(CGAMESH_DATA_DIR) / "CesiumMan.glb").string();
+  const std::vector<std::string> tear{"tear",       model, "--scalpel", "0.01,0.90,2,0.01,0.90,0.06", "--scalpel",
+                                      "-0.03,1.0,2,-0.03,1.0,0.06", "--soft", "--gravity", "0,0,0", "--json"};
+  const auto opening = [&](const std::string& tension, const std::string& out) {
+    std::vector<std::string> args = tear;
+    args.insert(args.end(), {"--tension", tension, "-o", (dir / out).string()});
+    return parse_json(run_ok(dir, args))["soft"];
+  };
+  const nlohmann::json closed = opening("0", "closed.glb"), open = opening("0.2", "open.glb");
+  EXPECT_LT(closed["mean_opening"].get<double>(), 1e-6);
+  EXPECT_GT(open["mean_opening"].get<double>(), 0.005);
+  EXPECT_TRUE(open["settled"].get<bool>());
+  // The written model animates with the wound open: it validates and has CesiumMan's clip.
+  const cgamesh::anim::RiggedModel baked = cgamesh::io::load_model(dir / "open.glb");
+  EXPECT_EQ(baked.clips.size(), 1u);
+  ASSERT_TRUE(cgamesh_test::validator_available()) << "scripts/install-deps.sh installs the glTF validator";
+  std::string log;
+  EXPECT_EQ(cgamesh_test::validate_gltf(dir / "open.glb", log), 0) << log;
+}
+
+TEST(CliTearSoft, BadTissueOptionsWriteNothing) {
+  Failure f;
+  const std::string model = (fs::path(CGAMESH_DATA_DIR) / "CesiumMan.glb").string();
+  const fs::path out = f.outputs / "t.glb";
+  const std::vector<std::string> tear{"tear", model, "--scalpel", "0.01,0.90,2,0.01,0.90,0.06", "--scalpel",
+                                      "-0.03,1.0,2,-0.03,1.0,0.06", "--soft", "-o", out.string()};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = tear;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return a;
+  };
+  expect_failure(f, with({"--tension", "1"}), 2, "pretension", out);
+  expect_failure(f, with({"--stiffness", "0"}), 2, "--stiffness", out);
+  expect_failure(f, with({"--gravity", "0,nan,0"}), 2, "--gravity", out);
+}
+
+}  // namespace
