@@ -169,6 +169,23 @@ struct SurgeryCommand {
     }
   };
 
+  /// `operation` in place on the scene (it returns its MeshChanges), the tissue settled and
+  /// baked, written to `output`; `ms` gets the time of it all.
+  template <class Operation>
+  soft::SoftOperation run_soft(const Scene& scene, const Soft& soft, const std::string& output, Operation&& operation,
+                               double& ms) const {
+    const soft::TissueOptions tissue = soft.tissue();
+    surgery::LiveModel live(scene.model, scene.placement);
+    soft::SoftOperation s = timed(
+        [&] {
+          return soft::operate_soft(live, scene.pose.pose, tissue,
+                                    [&](surgery::LiveModel& l) -> std::vector<surgery::MeshChange> { return operation(l); });
+        },
+        ms);
+    io::write_files_atomically(encode_result(s.model, s.positions, scene.pose.pose, output));
+    return s;
+  }
+
   void add_common(CLI::App& sub) {
     sub.add_option("MODEL", model, "model file")->required();
     sub.add_flag("--euclidean", euclidean, "Euclidean predicates instead of CGA (same result; for timing)");
@@ -196,6 +213,7 @@ struct CutCommand : SurgeryCommand {
   std::string plane;
   std::vector<std::string> outputs;
   surgery::CutOptions options;
+  Soft soft;
 
   void run() {
     check(outputs, "cut");
@@ -210,6 +228,32 @@ struct CutCommand : SurgeryCommand {
     options.predicates = predicates();
     options.rest = rest();
     double ms = 0;
+    if (soft.on) {
+      // The tissue lives on the model cut in place: both pieces stay in their meshes, uncapped.
+      if (options.cap) throw InvalidInputError("--soft: a cut with --cap is not made in place; drop --cap");
+      if (outputs.size() != 1) throw InvalidInputError("--soft writes both pieces to one file: give one -o");
+      surgery::LiveCut live_cut;
+      const soft::SoftOperation s = run_soft(
+          scene, soft, outputs[0],
+          [&](surgery::LiveModel& l) {
+            live_cut = surgery::cut(l, pi, options);
+            return live_cut.changes;
+          },
+          ms);
+      report(outputs, ms, scene,
+             {{"new_vertices", live_cut.new_vertices},
+              {"intersection_points", live_cut.intersection_points},
+              {"faces_in", live_cut.faces_in},
+              {"faces_out", live_cut.faces_out},
+              {"faces_split", live_cut.faces_split},
+              {"soft", Soft::json(s.report)}},
+             "cut " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(live_cut.intersection_points) +
+                 " intersection points, " + std::to_string(live_cut.faces_split) + " faces split, " +
+                 std::to_string(live_cut.faces_in) + " -> " + std::to_string(live_cut.faces_out) + " faces" +
+                 Soft::text(s.report) + "\n  -> " + outputs[0] + " (both pieces)",
+             live_cut.warnings);
+      return;
+    }
     const surgery::ModelCut c = timed([&] { return surgery::cut(scene.model, scene.placement, pi, options); }, ms);
     std::vector<io::EncodedFile> files;
     if (outputs.size() == 1) {
@@ -252,6 +296,18 @@ struct DrillCommand : SurgeryCommand {
     options.predicates = predicates();
     options.rest = rest();
     double ms = 0;
+    if (soft.on) {
+      surgery::LiveDrill live_drill;
+      const soft::SoftOperation s = run_soft(
+          scene, soft, output,
+          [&](surgery::LiveModel& l) {
+            live_drill = surgery::drill(l, tip_point, base_point, radius, options);
+            return live_drill.changes;
+          },
+          ms);
+      report_drill(live_drill, ms, scene, Soft::json(s.report), Soft::text(s.report));
+      return;
+    }
     const surgery::ModelDrill d = timed(
         [&] {
           return surgery::drill(scene.model, scene.placement, scene.index, tip_point, base_point, radius, options);
@@ -259,27 +315,35 @@ struct DrillCommand : SurgeryCommand {
         ms);
     if (d.model.meshes.empty()) throw TopologyError("drill: the drill removes the whole model; nothing to write");
     io::write_files_atomically(encode_result(d.model, d.placed, scene.pose.pose, output));
-    report(output, ms, scene,
-           {{"new_vertices", d.new_vertices},
-            {"intersection_points", d.intersection_points},
-            {"faces_in", d.faces_in},
-            {"faces_out", d.faces_out},
-            {"faces_removed", d.faces_removed},
-            {"faces_affected", d.faces_affected},
-            {"refinements", d.refinements},
-            {"rims", d.rims},
-            {"walls", d.walls},
-            {"open_rims", d.open_rims},
-            {"wall_triangles", d.wall_triangles}},
+    report_drill(d, ms, scene, nullptr, "");
+  }
+
+  void report_drill(const surgery::DrillStats& d, double ms, const Scene& scene, const Json& soft_report,
+                    const std::string& soft_text) const {
+    Json fields = {{"new_vertices", d.new_vertices},
+                   {"intersection_points", d.intersection_points},
+                   {"faces_in", d.faces_in},
+                   {"faces_out", d.faces_out},
+                   {"faces_removed", d.faces_removed},
+                   {"faces_affected", d.faces_affected},
+                   {"refinements", d.refinements},
+                   {"rims", d.rims},
+                   {"walls", d.walls},
+                   {"open_rims", d.open_rims},
+                   {"wall_triangles", d.wall_triangles}};
+    if (!soft_report.is_null()) fields["soft"] = soft_report;
+    report(output, ms, scene, fields,
            "drill " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(d.intersection_points) +
                " intersection points, " + std::to_string(d.rims) + " rims, " + std::to_string(d.refinements) +
                " refinements, " + std::to_string(d.faces_in) + " -> " + std::to_string(d.faces_out) + " faces" +
                (options.wall ? ", " + std::to_string(d.walls) + " walls (" + std::to_string(d.wall_triangles) +
                                    " triangles), " + std::to_string(d.open_rims) + " rims left open"
                              : "") +
-               "\n  -> " + output,
+               soft_text + "\n  -> " + output,
            d.warnings);
   }
+
+  Soft soft;
 };
 
 // ---- tear ----
@@ -328,19 +392,15 @@ struct TearCommand : SurgeryCommand {
 
   /// The tear in place, then the tissue settled and baked.
   void run_soft(const Scene& scene, const std::vector<surgery::Scalpel>& steps) {
-    const soft::TissueOptions tissue = soft.tissue();
-    surgery::LiveModel live(scene.model, scene.placement);
     surgery::LiveTear t;
     double ms = 0;
-    const soft::SoftOperation s = timed(
-        [&] {
-          return soft::operate_soft(live, scene.pose.pose, tissue, [&](surgery::LiveModel& l) {
-            t = surgery::tear(l, steps, options);
-            return std::vector<surgery::MeshChange>{t.change};
-          });
+    const soft::SoftOperation s = SurgeryCommand::run_soft(
+        scene, soft, output,
+        [&](surgery::LiveModel& l) {
+          t = surgery::tear(l, steps, options);
+          return std::vector<surgery::MeshChange>{t.change};
         },
         ms);
-    io::write_files_atomically(encode_result(s.model, s.positions, scene.pose.pose, output));
     report(output, ms, scene,
            {{"mesh", t.change.mesh},
             {"new_vertices", t.new_vertices},
@@ -373,6 +433,7 @@ void add_cut(CLI::App& app) {
   sub->add_flag("--cap", c->options.cap, "close each piece by triangulating the cross-section");
   sub->add_flag("--own-side-influences", c->options.own_side_influences,
                 "new vertices take influences from their own side only");
+  c->soft.add_to(*sub);
   sub->callback([c] { c->run(); });
 }
 
@@ -396,6 +457,7 @@ void add_drill(CLI::App& app) {
                   "work budget: refinement stops before the drilled region would pass this many faces")
       ->check(CLI::Range(1, 1 << 24))
       ->capture_default_str();
+  c->soft.add_to(*sub);
   sub->callback([c] { c->run(); });
 }
 

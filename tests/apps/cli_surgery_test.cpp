@@ -411,3 +411,26 @@ TEST(CliTearSoft, BadTissueOptionsWriteNothing) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(CliSoft, CutAndDrillSettleTheirWoundsToo) {
+  TempDir dir;
+  const std::string model = (fs::path(CGAMESH_DATA_DIR) / "CesiumMan.glb").string();
+  const nlohmann::json drill = parse_json(run_ok(dir, {"drill", model, "--tip", "0,1.3,-0.5", "--base", "0,1.3,0.5",
+                                                       "--radius", "0.04", "--soft", "--json", "-o",
+                                                       (dir / "d.glb").string()}));
+  EXPECT_GT(drill["soft"]["mean_opening"].get<double>(), 1e-3);
+  EXPECT_EQ(drill["soft"]["wound_vertices"].get<int>(), drill["new_vertices"].get<int>());
+  const nlohmann::json cut = parse_json(
+      run_ok(dir, {"cut", model, "--plane", "0,1,0,0.9", "--soft", "--json", "-o", (dir / "c.glb").string()}));
+  EXPECT_GT(cut["soft"]["wound_vertices"].get<int>(), 0);
+  EXPECT_EQ(cgamesh::io::load_model(dir / "c.glb").clips.size(), 1u);
+  Failure f;
+  const fs::path out = f.outputs / "c.glb";
+  expect_failure(f, {"cut", model, "--plane", "0,1,0,0.9", "--soft", "--cap", "-o", out.string()}, 2, "--cap", out);
+  expect_failure(f, {"cut", model, "--plane", "0,1,0,0.9", "--soft", "-o", out.string(), (f.outputs / "b.glb").string()},
+                 2, "one file", out);
+}
+
+}  // namespace
