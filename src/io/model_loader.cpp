@@ -328,11 +328,24 @@ class Loader {
       for (unsigned f = 0; f < part->mNumFaces; ++f) {
         const aiFace& face = part->mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines of a mixed mesh
+        for (unsigned k = 0; k < 3; ++k)
+          if (face.mIndices[k] >= in.mNumVertices)
+            throw FileError("mesh '" + m.name + "' has a face with vertex " + std::to_string(face.mIndices[k]) +
+                            " of " + std::to_string(in.mNumVertices));
         faces.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
         materials.push_back(material);
       }
     }
     if (faces.empty()) return;
+    // Corrupt files (OFF/invalid.off) give triangles whose corners are one point: no surface.
+    const auto distinct = [&](int a, int b) { return m.positions.row(a) != m.positions.row(b); };
+    if (std::none_of(faces.begin(), faces.end(), [&](const Eigen::Vector3i& f) {
+          return distinct(f[0], f[1]) && distinct(f[1], f[2]) && distinct(f[0], f[2]);
+        })) {
+      warn("mesh '" + m.name + "' has no triangle with three distinct corners (" + std::to_string(faces.size()) +
+           " degenerate); it is left out");
+      return;
+    }
     m.faces.resize(static_cast<Eigen::Index>(faces.size()), 3);
     for (std::size_t f = 0; f < faces.size(); ++f) m.faces.row(static_cast<Eigen::Index>(f)) = faces[f].transpose();
     repair_normals(m);

@@ -150,6 +150,19 @@ TEST(ModelLoader, BadFilesThrowFileError) {
     std::ofstream(truncated, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   }
   EXPECT_THROW((void)io::load_model(truncated), FileError);
+
+  // Debian's assimp-testmodels: faces "0", "220", "4" over 3 vertices; Assimp makes two
+  // triangles over one vertex of them.
+  const fs::path invalid_off = "/usr/share/assimp/models/OFF/invalid.off";
+  ASSERT_TRUE(fs::exists(invalid_off)) << "scripts/install-deps.sh installs assimp-testmodels";
+  EXPECT_THROW((void)io::load_model(invalid_off), FileError);
+  // A mesh of degenerate triangles beside a real one is left out with a warning.
+  const fs::path mixed = dir / "mixed.obj";
+  std::ofstream(mixed) << "o real\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no broken\nv 5 5 5\nf 4 4 4\n";
+  const anim::RiggedModel m = io::load_model(mixed);
+  EXPECT_EQ(m.meshes.size(), 1u);
+  EXPECT_TRUE(std::any_of(m.warnings.begin(), m.warnings.end(),
+                          [](const std::string& w) { return w.find("three distinct corners") != std::string::npos; }));
   fs::remove_all(dir);
 }
 
