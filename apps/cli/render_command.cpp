@@ -108,6 +108,12 @@ struct RenderCommand {
     render::Renderer renderer;
     std::vector<render::Image> images;
     for (const render::Camera& c : cameras) images.push_back(renderer.render(scene, c, options));
+    if (const std::string blank = render::blank_warning(
+            images, given ? std::string("the --camera") : "the view '" + (view.empty() ? "front" : view) + "'");
+        edge_on.empty() && !blank.empty()) {
+      std::cerr << "cgamesh: warning: " << blank << "\n";
+      warnings.push_back(blank);
+    }
     const auto render_done = std::chrono::steady_clock::now();
     render::write_png(views == 1 ? images.front() : render::contact_sheet(images, columns, options.background), output);
 

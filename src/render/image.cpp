@@ -152,6 +152,19 @@ Image decode_image(std::span<const std::uint8_t> bytes, const std::string& what,
   return out;
 }
 
+std::string blank_warning(std::span<const Image> images, const std::string& view) {
+  const auto uniform = [](const Image& image) {
+    for (std::size_t i = 4; i + 3 < image.rgba.size(); i += 4)
+      if (!std::equal(image.rgba.begin() + static_cast<std::ptrdiff_t>(i),
+                      image.rgba.begin() + static_cast<std::ptrdiff_t>(i + 4), image.rgba.begin()))
+        return false;
+    return true;
+  };
+  if (images.empty() || !std::all_of(images.begin(), images.end(), uniform)) return "";
+  return view + " shows nothing of the model: the picture is the background alone (single-sided faces seen "
+                "from behind are not drawn, as in three.js; try the opposite view)";
+}
+
 Image contact_sheet(std::span<const Image> images, int columns, const Eigen::Vector3f& background) {
   if (images.empty()) throw InvalidInputError("contact sheet: no images");
   if (columns < 1) throw InvalidInputError("contact sheet: columns must be >= 1");

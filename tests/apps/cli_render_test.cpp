@@ -55,6 +55,19 @@ TEST(CliRender, AFlatModelSeenEdgeOnIsAWarning) {
   EXPECT_FALSE(contains(top.err, "edge-on")) << top;
 }
 
+// Found by the field sweep: glTF2/cameras/Cameras.gltf (one single-sided square facing away)
+// rendered blank from the front without a word.
+TEST(CliRender, APictureOfNothingIsAWarning) {
+  TempDir dir;
+  const fs::path quad = "/usr/share/assimp/models/glTF2/cameras/Cameras.gltf", out = dir.path() / "away.png";
+  ASSERT_TRUE(fs::exists(quad)) << "scripts/install-deps.sh installs assimp-testmodels";
+  const Result front = run_ok(dir, {"render", quad.string(), "-o", out.string(), "--size", "64x48", "--json"});
+  EXPECT_TRUE(contains(front.err, "warning: the view 'front' shows nothing of the model")) << front;
+  EXPECT_EQ(parse_json(front)["warnings"].size(), 1u) << front;
+  const Result back = run_ok(dir, {"render", quad.string(), "-o", out.string(), "--size", "64x48", "--view", "back"});
+  EXPECT_FALSE(contains(back.err, "shows nothing")) << back;
+}
+
 TEST(CliRender, TurntableMakesAContactSheetAndCutPiecesRenderTogether) {
   TempDir dir;
   const fs::path a = dir.path() / "a.glb", b = dir.path() / "b.glb", sheet = dir.path() / "sheet.png";

@@ -55,6 +55,11 @@ void write_png(const Image& image, const std::filesystem::path& path);
 /// The images tiled row by row into one picture of `columns` columns, each cell the size of the
 /// largest image; empty cells are filled with `background` (RGB in [0, 1]).
 /// @throws InvalidInputError for no images or columns < 1.
+/// Why `images` (the pictures of one render) show nothing, or "": when each has one colour
+/// only (the background), a warning naming `view` (how the user chose the cameras, e.g. "the
+/// view 'front'") and the likely causes.
+[[nodiscard]] std::string blank_warning(std::span<const Image> images, const std::string& view);
+
 [[nodiscard]] Image contact_sheet(std::span<const Image> images, int columns, const Eigen::Vector3f& background);
 
 }  // namespace cgamesh::render
