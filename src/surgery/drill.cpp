@@ -149,6 +149,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
     out.origins.push_back(std::move(e.origins));
     out.placed.push_back(std::move(e.placed));
   }
+  bound_warnings(out.warnings);
   return out;
 }
 
@@ -181,6 +182,7 @@ LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector
     out.changes.push_back(std::move(applied.change));
   }
   out.faces_out = face_total(model);
+  bound_warnings(out.warnings);
   return out;
 }
 

@@ -219,6 +219,13 @@ void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, c
   }
 }
 
+void bound_warnings(std::vector<std::string>& warnings, std::size_t keep) {
+  if (warnings.size() <= keep) return;
+  const std::size_t more = warnings.size() - keep;
+  warnings.resize(keep);
+  warnings.push_back("... and " + std::to_string(more) + " more warnings like these");
+}
+
 std::optional<Eigen::Vector3d> unskin(const Eigen::Matrix3d& l, const Eigen::Vector3d& y) {
   const double scale = l.cwiseAbs().maxCoeff();
   if (!(std::abs(l.determinant()) > 1e-12 * scale * scale * scale)) return std::nullopt;

@@ -133,6 +133,10 @@ void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, c
 void set_placed_normal(mesh::Mesh& m, const anim::SkinningPalette& palette, Eigen::Index v,
                        const Eigen::Vector3d& placed_normal);
 
+/// Keeps the first `keep` of `warnings` and says how many more there were: a tool through a model
+/// of hundreds of small meshes warns about each, and a flood hides what matters.
+void bound_warnings(std::vector<std::string>& warnings, std::size_t keep = 12);
+
 /// Faces of all meshes of `model`.
 [[nodiscard]] int face_total(const anim::RiggedModel& model);
 

@@ -666,3 +666,28 @@ INSTANTIATE_TEST_SUITE_P(Models, DrillProperties, ::testing::Values(0, 1, 2, 3),
                          [](const auto& info) { return subjects()[static_cast<std::size_t>(info.param)].name; });
 
 }  // namespace
+
+namespace {
+
+// Found by the field sweep: a drill through models of hundreds of small meshes printed a
+// warning per mesh (400-1400 lines).
+TEST(Drill, WarningsOfManyMeshesAreBounded) {
+  cgamesh::anim::RiggedModel model;
+  for (int k = 0; k < 30; ++k) {
+    cgamesh::mesh::Mesh sheet = cgamesh_test::grid(4);
+    sheet.name = "sheet" + std::to_string(k);
+    for (Eigen::Index v = 0; v < sheet.vertex_count(); ++v) sheet.positions(v, 2) = 0.1f * static_cast<float>(k);
+    model.meshes.push_back(std::move(sheet));
+  }
+  const cgamesh::surgery::Placement placed =
+      cgamesh::surgery::place(model, cgamesh::anim::rest_pose(model.skeleton));
+  cgamesh::surgery::DrillOptions options;
+  options.wall = true;
+  const cgamesh::surgery::ModelDrill d =
+      cgamesh::surgery::drill(model, placed, {2.1, 2.1, 5}, {2.1, 2.1, -1}, 0.7, options);
+  EXPECT_EQ(d.open_rims, 30);
+  ASSERT_EQ(d.warnings.size(), 13u);
+  EXPECT_NE(d.warnings.back().find("18 more warnings"), std::string::npos) << d.warnings.back();
+}
+
+}  // namespace
