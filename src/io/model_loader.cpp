@@ -402,14 +402,34 @@ class Loader {
   /// A reader's NaN or infinite normals (Q3D's earth has a few) would make every posed normal, and
   /// so every output, invalid: they become the area-weighted normals of their faces.
   void repair_normals(mesh::Mesh& m) {
+    if (m.normals.rows() == 0) return;
     const Eigen::Array<bool, Eigen::Dynamic, 1> broken = (!m.normals.array().isFinite()).rowwise().any();
-    const auto count = broken.count();
-    if (count == 0) return;
-    const mesh::RowMatrixXf<3> faces = mesh::area_weighted_normals(m.positions, m.faces);
-    for (Eigen::Index v = 0; v < m.normals.rows(); ++v)
-      if (broken(v)) m.normals.row(v) = faces.row(v);
-    warn("mesh '" + m.name + "': " + std::to_string(count) + " of " + std::to_string(m.normals.rows()) +
-         " normals were NaN or infinite; replaced by the area-weighted normals of their faces");
+    if (const auto count = broken.count(); count > 0) {
+      const mesh::RowMatrixXf<3> faces = mesh::area_weighted_normals(m.positions, m.faces);
+      for (Eigen::Index v = 0; v < m.normals.rows(); ++v)
+        if (broken(v)) m.normals.row(v) = faces.row(v);
+      warn("mesh '" + m.name + "': " + std::to_string(count) + " of " + std::to_string(m.normals.rows()) +
+           " normals were NaN or infinite; replaced by the area-weighted normals of their faces");
+    }
+    // Normals against a winding that encloses positive volume (pab_skeleton.fbx: 2798 of 2811
+    // faces) point into the body, and the model renders dark: they are turned outward.
+    double volume = 0;
+    long against = 0;
+    for (Eigen::Index f = 0; f < m.face_count(); ++f) {
+      const Eigen::Vector3d a = m.positions.row(m.faces(f, 0)).cast<double>(),
+                            b = m.positions.row(m.faces(f, 1)).cast<double>(),
+                            c = m.positions.row(m.faces(f, 2)).cast<double>();
+      volume += a.dot(b.cross(c)) / 6;
+      const Eigen::Vector3d n = (m.normals.row(m.faces(f, 0)) + m.normals.row(m.faces(f, 1)) +
+                                 m.normals.row(m.faces(f, 2)))
+                                    .cast<double>();
+      if ((b - a).cross(c - a).dot(n) < 0) ++against;
+    }
+    if (volume > 0 && m.face_count() >= 4 && against * 10 >= m.face_count() * 9) {
+      m.normals = -m.normals;
+      warn("mesh '" + m.name + "': its normals point against its faces' winding (into the body) on " +
+           std::to_string(against) + " of " + std::to_string(m.face_count()) + " faces; turned outward");
+    }
   }
 
   /// Returns whether the mesh's data must be reflected (see kMirror).

@@ -332,3 +332,42 @@ TEST(ModelLoader, LatinOneNamesAnEmptyChildNodeAndNanNormals) {
   EXPECT_TRUE(said(earth, "4 of 5139 normals were NaN or infinite"));
 }
 }  // namespace
+
+namespace {
+
+// Found by the field sweep: pab_skeleton.fbx's normals point into the body on 2798 of 2811
+// faces, and it rendered dark. A cube whose normals point inward is the same in small.
+TEST(ModelLoader, NormalsIntoTheBodyAreTurnedOutward) {
+  cgamesh_test::TempDir dir;
+  const auto write_cube = [&](const std::string& name, float sign) {
+    std::ofstream out(dir / name);
+    for (int i = 0; i < 8; ++i) out << "v " << (i & 1) << " " << ((i >> 1) & 1) << " " << ((i >> 2) & 1) << "\n";
+    out << "vn " << sign << " 0 0\nvn 0 " << sign << " 0\nvn 0 0 " << sign << "\n"
+        << "vn " << -sign << " 0 0\nvn 0 " << -sign << " 0\nvn 0 0 " << -sign << "\n";
+    // Outward winding; normal k for +axis faces, k+3 for -axis faces.
+    const int faces[12][4] = {{1, 3, 2, 6}, {2, 3, 4, 6}, {5, 6, 7, 3}, {6, 8, 7, 3}, {1, 2, 5, 5}, {2, 6, 5, 5},
+                              {3, 7, 4, 2}, {4, 7, 8, 2}, {1, 5, 3, 4}, {3, 5, 7, 4}, {2, 4, 6, 1}, {4, 8, 6, 1}};
+    for (const auto& f : faces)
+      out << "f " << f[0] << "//" << f[3] << " " << f[1] << "//" << f[3] << " " << f[2] << "//" << f[3] << "\n";
+  };
+  write_cube("outward.obj", 1);
+  write_cube("inward.obj", -1);
+  const auto turned = [](const anim::RiggedModel& m) {
+    return std::any_of(m.warnings.begin(), m.warnings.end(),
+                       [](const std::string& w) { return w.find("turned outward") != std::string::npos; });
+  };
+  const anim::RiggedModel out = io::load_model(dir / "outward.obj"), in = io::load_model(dir / "inward.obj");
+  EXPECT_FALSE(turned(out));
+  EXPECT_TRUE(turned(in));
+  // Both load with normals along their faces' winding.
+  for (const anim::RiggedModel* m : {&out, &in}) {
+    const mesh::Mesh& c = m->meshes[0];
+    for (Eigen::Index f = 0; f < c.face_count(); ++f) {
+      const Eigen::Vector3f a = c.positions.row(c.faces(f, 0)), b = c.positions.row(c.faces(f, 1)),
+                            d = c.positions.row(c.faces(f, 2));
+      EXPECT_GT((b - a).cross(d - a).dot(Eigen::Vector3f(c.normals.row(c.faces(f, 0)))), 0) << f;
+    }
+  }
+}
+
+}  // namespace
