@@ -184,6 +184,26 @@ void start_clips_at_zero(anim::RiggedModel& model) {
 
 /// Why a scene gives no model when it has no triangle mesh: an animation file (.bvh, an .md5anim)
 /// is named so, since its reader loads without error.
+/// `relative` under `directory` as the file system has it, each part matched ignoring ASCII case
+/// (textures named by Windows exporters: "DWARF.JPG" for dwarf.jpg), else the file of its
+/// name alone in `directory` (an absolute path from the exporter's machine); empty when none.
+std::filesystem::path find_ignoring_case(const std::filesystem::path& directory, const std::filesystem::path& relative) {
+  const auto match = [](const std::filesystem::path& dir, const std::string& name) -> std::filesystem::path {
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+      if (detail::lower(it->path().filename().string()) == detail::lower(name)) return it->path();
+    return {};
+  };
+  std::filesystem::path at = directory;
+  for (const std::filesystem::path& part : relative.relative_path()) {
+    if (part == "." || part.empty()) continue;
+    at = part == ".." ? at / part : match(at, part.string());
+    if (at.empty()) break;
+  }
+  if (!at.empty() && std::filesystem::is_regular_file(at)) return at;
+  return match(directory, relative.filename().string());
+}
+
 std::string no_mesh(const aiScene& scene) {
   if (scene.mNumAnimations == 0) return "the file holds no triangle mesh";
   return "the file holds animation (" + std::to_string(scene.mNumAnimations) +
@@ -567,7 +587,13 @@ class Loader {
     } else {
       std::string relative = path;
       std::replace(relative.begin(), relative.end(), '\\', '/');
-      const std::filesystem::path file = directory_ / relative;
+      std::filesystem::path file = directory_ / relative;
+      if (!std::filesystem::exists(file))
+        if (std::filesystem::path found = find_ignoring_case(directory_, relative); !found.empty()) {
+          warn("material '" + material + "': texture '" + path + "' is read from '" + found.filename().string() +
+               "' (the file's name differs in case or folder)");
+          file = std::move(found);
+        }
       std::error_code ec;
       const auto size = std::filesystem::file_size(file, ec);
       if (ec || size == 0 || size > kMaxTextureBytes) {

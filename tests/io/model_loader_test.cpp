@@ -371,3 +371,25 @@ TEST(ModelLoader, NormalsIntoTheBodyAreTurnedOutward) {
 }
 
 }  // namespace
+
+namespace {
+
+// Found by the field sweep: 3DS files from Windows name their textures in another case
+// ("DWARF.JPG" for dwarf.jpg), and they were not found.
+TEST(ModelLoader, TexturesAreFoundWhateverTheCaseOfTheirName) {
+  cgamesh_test::TempDir dir;
+  fs::create_directories(dir / "maps");
+  { std::ofstream(dir / "maps" / "skin.png", std::ios::binary) << "not decoded by the loader"; }
+  { std::ofstream(dir / "quad.mtl") << "newmtl skin\nKd 1 1 1\nmap_Kd Maps\\SKIN.PNG\n"; }
+  {
+    std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl skin\n"
+                                       "f 1/1 2/2 3/3\n";
+  }
+  const anim::RiggedModel m = io::load_model(dir / "quad.obj");
+  ASSERT_EQ(m.textures.size(), 1u);
+  EXPECT_EQ(m.textures[0].bytes->size(), std::string("not decoded by the loader").size());
+  EXPECT_TRUE(std::any_of(m.warnings.begin(), m.warnings.end(),
+                          [](const std::string& w) { return w.find("is read from 'skin.png'") != std::string::npos; }));
+}
+
+}  // namespace
