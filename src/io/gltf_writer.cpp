@@ -264,7 +264,7 @@ class Builder {
     }
     for (std::size_t g = 0; g < materials.size(); ++g) {
       tinygltf::Primitive p = prim;
-      p.material = material_of(materials[g]);
+      p.material = material_of(materials[g], prim.attributes.count("TEXCOORD_0") != 0, label);
       p.indices = add_indices(m, faces_of[g]);
       gmesh.primitives.push_back(std::move(p));
     }
@@ -319,7 +319,8 @@ class Builder {
   }
 
   /// A VEC3 accessor of #V displacements: sparse (the rows that move, by index) where that is
-  /// smaller than every row (an index and a row against a row), with no data where none moves.
+  /// smaller than every row (an index and a row against a row). Where none moves, one zero row
+  /// is still written: an accessor without data is valid glTF, but Assimp refuses to read it.
   int add_displacements(const mesh::RowMatrixXf<3>& d, bool bounds) {
     const auto nv = static_cast<std::size_t>(d.rows());
     std::vector<std::uint32_t> moved;
@@ -339,7 +340,7 @@ class Builder {
         }
     }
     const int accessor = add_accessor(-1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv, mn, mx);
-    if (moved.empty()) return accessor;
+    if (moved.empty()) moved.push_back(0);
     std::size_t begin = begin_view();
     for (const std::uint32_t v : moved) put_u32(v);
     const int indices = end_view(begin, 0, 0);
@@ -362,12 +363,19 @@ class Builder {
 
   /// The glTF material of model material `material`, written once; -1 for none. Only materials
   /// that faces use are written, so load → write cycles do not gather the loader's default
-  /// material.
-  int material_of(int material) {
+  /// material. A mesh without texture coordinates (`uv` false) gets the material without its
+  /// textures, with a warning: glTF does not allow a texture there.
+  int material_of(int material, bool uv, const std::string& mesh) {
     if (material < 0 || material >= static_cast<int>(model_.materials.size())) return -1;
-    const auto [it, added] = material_index_.try_emplace(material, static_cast<int>(gm_.materials.size()));
-    if (!added) return it->second;
     const mesh::Material& in = model_.materials[static_cast<std::size_t>(material)];
+    const bool textured = in.base_color_texture >= 0 || in.metallic_roughness_texture >= 0 ||
+                          in.normal_texture >= 0 || in.occlusion_texture >= 0 || in.emissive_texture >= 0;
+    const bool bare = textured && !uv;
+    if (bare)
+      warnings_.push_back(mesh + " has no texture coordinates: material '" + in.name + "' written there without its textures");
+    const auto [it, added] =
+        material_index_.try_emplace({material, bare}, static_cast<int>(gm_.materials.size()));
+    if (!added) return it->second;
     tinygltf::Material out;
     out.name = in.name;
     // glTF factors lie in [0, 1]; scale and strength are any finite number.
@@ -378,13 +386,14 @@ class Builder {
                            unit(in.base_color.w())};
     pbr.metallicFactor = unit(in.metallic);
     pbr.roughnessFactor = unit(in.roughness);
-    pbr.baseColorTexture.index = texture_of(in.base_color_texture, in.name);
-    pbr.metallicRoughnessTexture.index = texture_of(in.metallic_roughness_texture, in.name);
-    out.normalTexture.index = texture_of(in.normal_texture, in.name);
+    const auto texture = [&](int t) { return bare ? -1 : texture_of(t, in.name); };
+    pbr.baseColorTexture.index = texture(in.base_color_texture);
+    pbr.metallicRoughnessTexture.index = texture(in.metallic_roughness_texture);
+    out.normalTexture.index = texture(in.normal_texture);
     out.normalTexture.scale = finite_or_one(in.normal_scale);
-    out.occlusionTexture.index = texture_of(in.occlusion_texture, in.name);
+    out.occlusionTexture.index = texture(in.occlusion_texture);
     out.occlusionTexture.strength = unit(in.occlusion_strength);
-    out.emissiveTexture.index = texture_of(in.emissive_texture, in.name);
+    out.emissiveTexture.index = texture(in.emissive_texture);
     out.emissiveFactor = {unit(in.emissive.x()), unit(in.emissive.y()), unit(in.emissive.z())};
     out.alphaMode = in.alpha_mode == mesh::AlphaMode::mask    ? "MASK"
                     : in.alpha_mode == mesh::AlphaMode::blend ? "BLEND"
@@ -661,7 +670,8 @@ class Builder {
     }
   }
 
-  std::map<int, int> material_index_, texture_index_;  // model index -> glTF index
+  std::map<std::pair<int, bool>, int> material_index_;  // (model index, without textures) -> glTF index
+  std::map<int, int> texture_index_;                     // model index -> glTF index
   const anim::RiggedModel& model_;
   std::vector<std::string>& warnings_;
   tinygltf::Model gm_;

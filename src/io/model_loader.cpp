@@ -756,7 +756,10 @@ anim::RiggedModel load_model(const std::filesystem::path& path, const LoadOption
   // Vertices that agree in every attribute are joined once the model is read
   // (mesh::join_identical_vertices), not by Assimp's JoinIdenticalVertices: glTF's indexed
   // vertices are kept as the file has them, so that vertex ids are the file's.
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType);
+  // Spherical, cylindrical and planar texture mappings (LWO, NFF) become UV coordinates, so a
+  // texture is drawn and written as the file means it.
+  const aiScene* scene =
+      importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_GenUVCoords);
   // Readers of animation formats flag their scene incomplete, as it has no mesh.
   if (scene != nullptr && scene->mRootNode != nullptr && scene->mNumMeshes == 0 && scene->mNumAnimations > 0)
     throw FileError("cannot load '" + path.string() + "': " + no_mesh(*scene));

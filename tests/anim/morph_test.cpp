@@ -134,6 +134,30 @@ TEST(MorphTargets, StaticMeshWithAnimatedWeightsPosesAsThreeJs) {
   EXPECT_LE(worst_against_three(model, cube, {0.0, 0.7, 1.9, 3.3}, SkinningMode::cga), 1e-6);
 }
 
+// Its first target leaves every normal as it is: written, that target's normals hold no data,
+// which Assimp refused to read back ("data is null when extracting data from accessors[3]").
+TEST(MorphTargets, ATargetThatMovesNothingIsWrittenSoThatItReadsBack) {
+  const fs::path cube =
+      cgamesh_test::assimp_model("glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
+  if (!fs::exists(cube)) GTEST_SKIP() << "AnimatedMorphCube missing";
+  const anim::RiggedModel model = io::load_model(cube);
+  ASSERT_EQ(model.meshes[0].morph_targets.size(), 2u);
+  ASSERT_TRUE((model.meshes[0].morph_targets[0].normals.array() == 0).all());
+  cgamesh_test::TempDir dir;
+  const fs::path out = dir.path() / "cube.glb";
+  (void)io::write_gltf(model, out);
+  if (cgamesh_test::validator_available()) {
+    std::string log;
+    EXPECT_EQ(cgamesh_test::validate_gltf(out, log), 0) << log;
+  }
+  const anim::RiggedModel again = io::load_model(out);
+  ASSERT_EQ(again.meshes[0].morph_targets.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(again.meshes[0].morph_targets[k].positions, model.meshes[0].morph_targets[k].positions);
+    EXPECT_EQ(again.meshes[0].morph_targets[k].normals, model.meshes[0].morph_targets[k].normals);
+  }
+}
+
 TEST(MorphTargets, WrittenGltfKeepsTargetsSparseWeightsAndTheirChannel) {
   const anim::RiggedModel model = io::load_model(kRig);
   cgamesh_test::TempDir dir;

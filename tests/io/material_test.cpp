@@ -20,6 +20,7 @@
 #include "cgamesh/io/gltf_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
 
+#include "support/js_oracles.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -231,6 +232,36 @@ TEST(Materials, WriteKeepsEveryMaterialFieldAndEmbedsEachImageOnce) {
   ASSERT_EQ(m.emissiveFactor.size(), 3u);
   EXPECT_NEAR(m.emissiveFactor[2], 0.3, 1e-7);
   EXPECT_TRUE(m.doubleSided);
+}
+
+// glTF allows no texture on a primitive without TEXCOORD_0 (the validator's
+// MESH_PRIMITIVE_TOO_FEW_TEXCOORDS): such a mesh gets the material without its textures, and
+// a mesh with coordinates sharing it keeps them.
+TEST(Materials, AMeshWithoutTextureCoordinatesIsWrittenWithoutTheTextures) {
+  TempDir dir;
+  anim::RiggedModel model = io::load_model(full_material_file(dir.path()));
+  mesh::Mesh bare = model.meshes[0];
+  bare.uvs.resize(0, 2);
+  bare.name = "bare";
+  model.meshes.push_back(bare);
+  const fs::path out = dir.path() / "written.glb";
+  const std::vector<std::string> warnings = io::write_gltf(model, out);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("no texture coordinates"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("'full'"), std::string::npos) << warnings[0];
+  if (cgamesh_test::validator_available()) {
+    std::string log;
+    EXPECT_EQ(cgamesh_test::validate_gltf(out, log), 0) << log;
+  }
+  const tinygltf::Model gm = read_glb(out);
+  ASSERT_EQ(gm.materials.size(), 2u);
+  const auto material_of = [&](std::size_t mesh) {
+    return gm.materials.at(static_cast<std::size_t>(gm.meshes.at(mesh).primitives.at(0).material));
+  };
+  EXPECT_EQ(material_of(0).pbrMetallicRoughness.baseColorTexture.index, 0);
+  EXPECT_EQ(material_of(1).pbrMetallicRoughness.baseColorTexture.index, -1);
+  EXPECT_EQ(material_of(1).normalTexture.index, -1);
+  EXPECT_EQ(material_of(1).name, "full");
 }
 
 /// Two triangles sharing an edge, with UVs, faces of materials `a` and `b`.

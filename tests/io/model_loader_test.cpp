@@ -87,6 +87,23 @@ TEST(ModelLoader, SoupsAreJoinedAndSeamsKept) {
   expect_valid_skin(w);
 }
 
+// LightWave and NFF map textures by projection (cylindrical, spherical, planar), not by UVs:
+// loaded without coordinates, the earth rendered grey and was written as invalid glTF.
+TEST(ModelLoader, ProjectedTextureMappingsBecomeTextureCoordinates) {
+  for (const char* name : {"LWO/LWO2/MappingModes/earth_cylindrical_x.lwo", "LWO/LWO2/MappingModes/earth_planar_y.lwo",
+                           "NFF/NFF/ManyEarthsNotJustOne.nff"}) {
+    SCOPED_TRACE(name);
+    const fs::path file = cgamesh_test::assimp_model(name);
+    if (!fs::exists(file)) GTEST_SKIP() << "assimp-testmodels not installed";
+    const anim::RiggedModel model = io::load_model(file);
+    for (const mesh::Mesh& m : model.meshes) {
+      ASSERT_EQ(m.uvs.rows(), m.vertex_count());
+      EXPECT_TRUE(m.uvs.allFinite());
+      EXPECT_GT((m.uvs.colwise().maxCoeff() - m.uvs.colwise().minCoeff()).minCoeff(), 0.5f) << "spread over the image";
+    }
+  }
+}
+
 TEST(ModelLoader, AssimpTestModelsInOtherFormats) {
   const fs::path x = cgamesh_test::assimp_model("X/BCN_Epileptic.X");
   const fs::path fbx = cgamesh_test::assimp_model("FBX/animation_with_skeleton.fbx");
