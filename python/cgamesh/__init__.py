@@ -6,7 +6,8 @@ so results equal the CLI's). Arrays go in and out as numpy arrays:
 - ``load(path)`` -> :class:`Model` (``meshes``, ``skeleton``, ``clips``, ``warnings``,
   ``info()``, ``save()``, ``pose()``, ``skin()``, ``animate()``)
 - surgery: :func:`cut`, :func:`tear`, :func:`drill` -> :class:`SurgeryResult`;
-  :class:`LiveModel` for edits in place
+  :class:`LiveModel` for edits in place, :class:`Tissue` for living tissue on it (wounds that open
+  under the skin's tension and keep animating)
 - deformation: :func:`deform`, :class:`Deformer` (the JSON spec of ``cgamesh deform``),
   :func:`harmonic_field`, :class:`MotorBlend`, :func:`fabrik`, :func:`fit_bspline_motors`
 - :mod:`cgamesh.cga`: multivectors of G(4,1)
@@ -39,6 +40,7 @@ from ._cgamesh import (
     Skeleton,
     SolverError,
     SurgeryResult,
+    Tissue,
     TopologyError,
     WriteError,
     cut,
@@ -69,6 +71,7 @@ __all__ = [
     "Skeleton",
     "SolverError",
     "SurgeryResult",
+    "Tissue",
     "TopologyError",
     "WriteError",
     "cga",

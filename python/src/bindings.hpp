@@ -84,6 +84,7 @@ void add_errors(py::module_& m);
 void add_model(py::module_& m);
 void add_surgery(py::module_& m);
 void add_deform(py::module_& m);
+void add_soft(py::module_& m);
 void add_cga(py::module_& m);
 
 }  // namespace cgamesh::python

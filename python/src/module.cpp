@@ -54,6 +54,7 @@ PYBIND11_MODULE(_cgamesh, m) {
   add_model(m);
   add_surgery(m);
   add_deform(m);
+  add_soft(m);
   py::module_ cga = m.def_submodule("cga", "The algebra G(4,1) of conformal geometric algebra");
   add_cga(cga);
 }
