@@ -30,6 +30,12 @@ done
   --scalpel -0.02,0.96,2,-0.02,0.96,0.06
 "$cli" drill "$model" --time 0.5 --base 0.01,0.9,0.6 --tip 0.01,0.9,-0.6 --radius 0.04 --wall \
   -o out/cesium_drilled.glb
+# Living tissue: the same tear in skin under tension (XPBD); the wound gapes, settles and is
+# baked into a model that walks with it open.
+"$cli" tear "$model" --time 0.5 --soft --tension 0.3 -o out/cesium_soft_torn.glb \
+  --scalpel 0.01,0.90,2,0.01,0.90,0.06 \
+  --scalpel -0.005,0.93,2,-0.005,0.93,0.06 \
+  --scalpel -0.02,0.96,2,-0.02,0.96,0.06
 echo "demo: wrote $(ls out | wc -l) files to out/"
 ls -1 out
 # Motor-handle deformation (paper sections III, IV, V, VI): spline bend, harmonic handles, FABRIK
@@ -72,4 +78,7 @@ done
 "${render[@]}" out/cesiumman_bend.glb --anim 0 --time 0.5 --view right -o out/cesiumman_bend_walking.png
 "${render[@]}" out/arap_cow_bend.obj --view front -o out/arap_cow_bend.png
 "${render[@]}" out/arap_arm_bend.ply --view front -o out/arap_arm_bend.png
-echo "demo: pictures in out/*.png"
+# A moving picture: the soft-torn man walking through his clip (2 s, 48 frames), an animated WebP.
+"$cli" render out/cesium_soft_torn.glb --time 0:2:48 --size "${CGAMESH_ANIMATION_SIZE:-480x480}" \
+  --camera 0.6,1.05,1.2,0.0,0.9,0.0,0,1,0 --color new -o out/cesium_soft_tear.webp
+echo "demo: pictures in out/*.png, an animation in out/cesium_soft_tear.webp"

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/file_extension.hpp"
 #include "cgamesh/io/model_loader.hpp"
 
 #include "exit_codes.hpp"
@@ -71,7 +72,10 @@ void PoseChoice::add_to(CLI::App& sub) {
                            anim_help +
                                " (name or index; default: the bind pose, as in every command; --time alone "
                                "picks the first clip)");
-  time_option = sub.add_option("--time", time, "seconds into the animation (default 0 with --anim)");
+  time_option = time_range ? sub.add_option("--time", time_text,
+                                             "seconds into the animation (default 0 with --anim), or START:END:N: N "
+                                             "frames from START towards END, (END - START)/N s apart")
+                            : sub.add_option("--time", time, "seconds into the animation (default 0 with --anim)");
   sub.add_option("--blend", blend, "key blending: format, linear or log")
       ->transform(CLI::CheckedTransformer(kBlendModes, CLI::ignore_case));
   sub.add_option("--set", sets, "JOINT:rotate=AX,AY,AZ,DEG | JOINT:translate=X,Y,Z | JOINT:scale=S (repeatable)");
@@ -175,9 +179,7 @@ void check_outputs(const std::vector<std::string>& outputs, const std::vector<st
 }
 
 void check_extension(const std::string& output, const std::vector<std::string>& allowed, const std::string& command) {
-  std::string ext = std::filesystem::path(output).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = io::lower_extension(output);
   if (std::find(allowed.begin(), allowed.end(), ext) != allowed.end()) return;
   std::string list;
   for (std::size_t i = 0; i < allowed.size(); ++i)
@@ -197,9 +199,7 @@ void check_no_empty_values(const CLI::App& app) {
 }
 
 bool is_gltf_path(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = io::lower_extension(path);
   return ext == ".glb" || ext == ".gltf";
 }
 

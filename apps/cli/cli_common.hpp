@@ -54,6 +54,10 @@ struct PoseChoice {
   std::vector<std::string> sets;
   std::vector<std::string> morphs;  ///< --morph TARGET=W
   bool bind = false;
+  /// --time may be a range START:END:N (render): add_to() then reads it into time_text, and the
+  /// command sets `time` for each frame.
+  bool time_range = false;
+  std::string time_text;
   const CLI::Option* time_option = nullptr;  ///< set by add_to(); given or not
 
   /// The pose chosen for one model, and how to report it.

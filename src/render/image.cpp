@@ -17,14 +17,6 @@
 namespace cgamesh::render {
 namespace {
 
-void check(const Image& image) {
-  if (image.width <= 0 || image.height <= 0)
-    throw InvalidInputError("image: empty (" + std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
-  if (image.rgba.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4)
-    throw InvalidInputError("image: " + std::to_string(image.rgba.size()) + " bytes for " +
-                            std::to_string(image.width) + "x" + std::to_string(image.height) + " RGBA pixels");
-}
-
 std::uint8_t to_byte(float c) { return static_cast<std::uint8_t>(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); }
 
 /// Refuses an image whose header declares a side over kMaxImageSide, before its pixels are
@@ -121,8 +113,16 @@ Image decode_jpeg(std::span<const std::uint8_t> bytes, const std::string& what, 
 
 }  // namespace
 
+void validate(const Image& image) {
+  if (image.width <= 0 || image.height <= 0)
+    throw InvalidInputError("image: empty (" + std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
+  if (image.rgba.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4)
+    throw InvalidInputError("image: " + std::to_string(image.rgba.size()) + " bytes for " +
+                            std::to_string(image.width) + "x" + std::to_string(image.height) + " RGBA pixels");
+}
+
 std::string encode_png(const Image& image) {
-  check(image);
+  validate(image);
   std::string out;
   const auto append = [](void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
@@ -170,7 +170,7 @@ Image contact_sheet(std::span<const Image> images, int columns, const Eigen::Vec
   if (columns < 1) throw InvalidInputError("contact sheet: columns must be >= 1");
   int cw = 0, ch = 0;
   for (const Image& im : images) {
-    check(im);
+    validate(im);
     cw = std::max(cw, im.width);
     ch = std::max(ch, im.height);
   }

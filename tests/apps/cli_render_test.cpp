@@ -1,9 +1,12 @@
 // `cgamesh render`: pictures of models and of surgery results, and every bad request refused.
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <span>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <webp/demux.h>
 
 #include "cgamesh/render/image.hpp"
 
@@ -106,6 +109,57 @@ TEST(CliRender, BadRequestsExitWithTheirCodeAndWriteNothing) {
   expect_failure(f, {"render", m, "-o", out.string(), "--turntable", "64", "--size", "4000x4000"}, 2, "sheet", out);
   expect_failure(f, {"render", m, "-o", (f.outputs / "out.jpg").string()}, 2, ".png", f.outputs / "out.jpg");
   expect_failure(f, {"render", m, "-o", out.string(), "--time", "-1"}, 2, "--time", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--time", "0:1:0"}, 2, "--time", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--time", "1:0:5"}, 2, "END must be after START", out);
+  expect_failure(f, {"render", m, "-o", out.string(), "--time", "0:1:5000", "--size", "4000x4000"}, 2, "MiB", out);
+  const fs::path webp = f.outputs / "out.webp";
+  expect_failure(f, {"render", m, "-o", webp.string(), "--time", "0:1:x"}, 2, "whole number of frames", webp);
+}
+
+// Issue #34: moving pictures. A time range renders one frame per time, framed together, into an
+// animated WebP that libwebp's decoder plays back with the frames' times, or into numbered PNGs.
+TEST(CliRender, ATimeRangeMakesAnAnimationOrASequence) {
+  TempDir dir;
+  const fs::path webp = dir.path() / "walk.webp";
+  const auto j = parse_json(run_ok(dir, {"render", cesium().string(), "--time", "0:1:6", "--size", "96x96", "-o",
+                                         webp.string(), "--json"}));
+  EXPECT_EQ(j["frames"], 6);
+  EXPECT_DOUBLE_EQ(j["time"]["frame_seconds"].get<double>(), 1.0 / 6);
+  const std::string bytes = read_file(webp);
+  WebPData data{reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()};
+  WebPAnimDecoderOptions options;
+  ASSERT_TRUE(WebPAnimDecoderOptionsInit(&options));
+  options.color_mode = MODE_RGBA;
+  const std::unique_ptr<WebPAnimDecoder, void (*)(WebPAnimDecoder*)> decoder(WebPAnimDecoderNew(&data, &options),
+                                                                             WebPAnimDecoderDelete);
+  ASSERT_TRUE(decoder) << "libwebp reads the animation";
+  std::vector<std::vector<std::uint8_t>> frames;
+  std::vector<int> ends;
+  while (WebPAnimDecoderHasMoreFrames(decoder.get()) != 0) {
+    std::uint8_t* pixels = nullptr;
+    int end = 0;
+    ASSERT_TRUE(WebPAnimDecoderGetNext(decoder.get(), &pixels, &end));
+    frames.emplace_back(pixels, pixels + 96 * 96 * 4);
+    ends.push_back(end);
+  }
+  ASSERT_EQ(frames.size(), 6u);
+  EXPECT_EQ(ends, (std::vector<int>{167, 333, 500, 667, 833, 1000}));
+  // He walks: every frame differs from the one before.
+  for (std::size_t k = 1; k < frames.size(); ++k) EXPECT_NE(frames[k], frames[k - 1]) << "frame " << k;
+
+  // As PNGs: NAME_000.png ..., each the picture of that time alone (from one camera: a range
+  // is framed as a whole).
+  const fs::path png = dir.path() / "walk.png";
+  const std::string camera = "0,1,3,0,0.8,0,0,1,0";
+  run_ok(dir, {"render", cesium().string(), "--time", "0:1:3", "--size", "64x64", "--camera", camera, "-o",
+               png.string()});
+  EXPECT_FALSE(fs::exists(png));
+  const fs::path single = dir.path() / "at.png";
+  run_ok(dir, {"render", cesium().string(), "--time", "0.3333333333333333", "--size", "64x64", "--camera", camera,
+               "-o", single.string()});
+  EXPECT_EQ(read_png(dir.path() / "walk_001.png").rgba, read_png(single).rgba);
+  EXPECT_TRUE(fs::exists(dir.path() / "walk_002.png"));
+  EXPECT_FALSE(fs::exists(dir.path() / "walk_003.png"));
 }
 
 TEST(CliRender, NoEglIsExitOneNamingWhatFailed) {

@@ -32,6 +32,9 @@ struct Image {
   }
 };
 
+/// @throws InvalidInputError for an empty image or a pixel buffer of the wrong size.
+void validate(const Image& image);
+
 /// The PNG encoding of `image` (stb_image_write).
 /// @throws InvalidInputError for an empty image or a pixel buffer of the wrong size.
 [[nodiscard]] std::string encode_png(const Image& image);
