@@ -9,7 +9,7 @@ root="$(dirname "$here")"
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libbullet-dev
   libcli11-dev nlohmann-json3-dev
   libassimp-dev assimp-testmodels
   libtinygltf-dev

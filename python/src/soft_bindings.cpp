@@ -82,7 +82,7 @@ void add_soft(py::module_& m) {
                        "the wounds is simulated; elsewhere positions are the skinned ones.")
       .def(py::init([](const py::object& live, double density, double attachment_compliance, double stretch_compliance,
                        double bend_compliance, double pretension, double damping, double substep,
-                       const py::handle& gravity, double region_radius, double release_margin) {
+                       const py::handle& gravity, double region_radius, double release_margin, int max_particles) {
              soft::TissueOptions o;
              o.density = density;
              o.attachment_compliance = attachment_compliance;
@@ -94,6 +94,7 @@ void add_soft(py::module_& m) {
              o.gravity = vector3(gravity, "gravity");
              o.region_radius = region_radius;
              o.release_margin = release_margin;
+             o.max_particles = max_particles;
              const surgery::LiveModel& l = live.cast<const surgery::LiveModel&>();
              return PyTissue{live, soft::Tissue(l, o)};
            }),
@@ -106,11 +107,12 @@ void add_soft(py::module_& m) {
            py::arg("gravity") = std::array<double, 3>{0.0, -9.81, 0.0},
            py::arg("region_radius") = soft::TissueOptions{}.region_radius,
            py::arg("release_margin") = soft::TissueOptions{}.release_margin,
+           py::arg("max_particles") = soft::TissueOptions{}.max_particles,
            "Binds tissue to `live` (kept alive). Options as soft::TissueOptions (units: model units, seconds, kg): "
            "density per area, compliances (inverse stiffness) of the attachment to the skin, of stretch and of "
            "bending, pretension (fraction in [0, 1)), damping per second, substep (s), gravity (3), region_radius "
-           "and release_margin (0: 10 % of the diagonal, a quarter of the region). Raises InvalidInputError "
-           "naming a bad option.")
+           "and release_margin (0: 10 % of the diagonal, a quarter of the region), max_particles (the region's "
+           "budget, 0: none). Raises InvalidInputError naming a bad option.")
       .def_property_readonly("live", [](const PyTissue& t) { return t.live_object; }, "the LiveModel it is bound to")
       .def(
           "follow",

@@ -2,7 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <queue>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -45,6 +51,7 @@ Tissue::Tissue(const surgery::LiveModel& live, const TissueOptions& options) : o
     for (Eigen::Index v = 0; v < m.vertex_count(); ++v) box.extend(row(placed.positions[i], static_cast<int>(v)));
     mass_.push_back(std::move(mass));
     particle_of_.emplace_back(static_cast<std::size_t>(m.vertex_count()), -1);
+    face_mark_.emplace_back(static_cast<std::size_t>(m.face_count()), 0);
     vx_.emplace_back(static_cast<std::size_t>(m.vertex_count()));
     vv_.emplace_back(static_cast<std::size_t>(m.vertex_count()));
     saved_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0);
@@ -52,6 +59,28 @@ Tissue::Tissue(const surgery::LiveModel& live, const TissueOptions& options) : o
   diagonal_ = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-12);
   radius_ = options_.region_radius > 0 ? options_.region_radius : 0.1 * diagonal_;
   margin_ = options_.release_margin > 0 ? options_.release_margin : 0.25 * radius_;
+}
+
+void Tissue::set_options(const surgery::LiveModel& live, const TissueOptions& options) {
+  options.validate();
+  const double density_ratio = options.density / options_.density;
+  for (auto& m : mass_)
+    for (double& x : m) x *= density_ratio;
+  options_ = options;
+  radius_ = options_.region_radius > 0 ? options_.region_radius : 0.1 * diagonal_;
+  margin_ = options_.release_margin > 0 ? options_.release_margin : 0.25 * radius_;
+  for (Ball& b : balls_)
+    if (b.vertex >= 0) b.radius = radius_;
+  for (Ball& b : releases_) b.radius = margin_;
+  save_state();
+  rebuild(live);
+}
+
+Eigen::Vector3d Tissue::momentum() const noexcept {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < x_.size(); ++k)
+    if (free_[k] != 0 && inverse_mass_[k] > 0) p += v_[k] / inverse_mass_[k];
+  return p;
 }
 
 double Tissue::total_mass() const noexcept {
@@ -155,6 +184,93 @@ void Tissue::save_state() {
   members_.clear();
 }
 
+std::vector<Eigen::Vector4d> Tissue::spheres(const std::vector<Ball>& balls, int mesh,
+                                             const surgery::Placement& placed) {
+  std::vector<Eigen::Vector4d> out;
+  for (const Ball& b : balls)
+    if (b.mesh == mesh) {
+      const Eigen::Vector3d c = b.center(placed);
+      out.emplace_back(c.x(), c.y(), c.z(), 1.0 / std::max(b.radius, 1e-300));
+    }
+  return out;
+}
+
+double Tissue::reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::Vector3d& p) {
+  double best = INFINITY;
+  for (const Eigen::Vector4d& s : spheres) best = std::min(best, (p - s.head<3>()).norm() * s.w());
+  return best;
+}
+
+std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& live) {
+  const anim::RiggedModel& model = live.model();
+  const std::size_t budget = options_.max_particles > 0 ? 2 * static_cast<std::size_t>(options_.max_particles)
+                                                        : std::numeric_limits<std::size_t>::max();
+  // A vertex's reach is its distance to the nearest ball over that ball's radius; a face's, the
+  // least of its corners'. The region grows from the faces at the balls' centres across the
+  // surface, nearest first (a priority queue), over the faces of reach < 1: every free vertex
+  // (reach < 1) then has all its faces and links, and the other corners pin the border. Past
+  // the budget it stops, as if every ball were shrunk by one factor (scale_). It costs what the
+  // region holds, whatever the size of the mesh or of the balls.
+  struct Candidate {
+    double reach;
+    int mesh, face;
+    bool operator>(const Candidate& o) const noexcept {
+      return reach != o.reach ? reach > o.reach : mesh != o.mesh ? mesh > o.mesh : face > o.face;
+    }
+  };
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
+  std::vector<std::vector<Eigen::Vector4d>> near(model.meshes.size());
+  ++mark_;
+  const auto push = [&](std::size_t i, int f) {
+    int& seen = face_mark_[i][static_cast<std::size_t>(f)];
+    if (seen == mark_) return;
+    seen = mark_;
+    const mesh::Mesh& m = model.meshes[i];
+    const mesh::RowMatrixXf<3>& placed = live.placement().positions[i];
+    double r = INFINITY;
+    for (int k = 0; k < 3; ++k) r = std::min(r, reach(near[i], row(placed, m.faces(f, k))));
+    if (r < 1) queue.push({r, static_cast<int>(i), f});
+  };
+  for (std::size_t i = 0; i < model.meshes.size(); ++i) {
+    face_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].face_count()), 0);
+    near[i] = spheres(balls_, static_cast<int>(i), live.placement());
+    std::vector<int> seeds;
+    for (const Ball& b : balls_) {
+      if (b.mesh != static_cast<int>(i)) continue;
+      // A wound's ball starts at the faces around its vertex; a selected point's, at every
+      // face its ball's box meets (the point need not lie on the surface).
+      const Eigen::Vector3d c = b.center(live.placement());
+      const double half = b.vertex >= 0 ? 0.0 : b.radius;
+      live.index().meshes[i].bvh.faces_in_box(c - Eigen::Vector3d::Constant(half), c + Eigen::Vector3d::Constant(half),
+                                              seeds);
+    }
+    for (const int f : seeds) push(i, f);
+  }
+  std::vector<std::vector<int>> out(model.meshes.size());
+  std::size_t taken = 0;
+  scale_ = 1;
+  while (!queue.empty()) {
+    const Candidate c = queue.top();
+    if (taken == budget) {
+      scale_ = c.reach;
+      break;
+    }
+    queue.pop();
+    ++taken;
+    const auto i = static_cast<std::size_t>(c.mesh);
+    out[i].push_back(c.face);
+    for (const int g : live.index().meshes[i].neighbor[static_cast<std::size_t>(c.face)])
+      if (g >= 0) push(i, g);
+  }
+  // From here, face_mark_ == mark_ means: in the region.
+  ++mark_;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    std::sort(out[i].begin(), out[i].end());
+    for (const int f : out[i]) face_mark_[i][static_cast<std::size_t>(f)] = mark_;
+  }
+  return out;
+}
+
 void Tissue::rebuild(const surgery::LiveModel& live) {
   const anim::RiggedModel& model = live.model();
   ref_.clear();
@@ -166,23 +282,16 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
   links_.clear();
   have_targets_ = false;
   std::vector<double> particle_mass;
-  std::vector<std::pair<int, int>> edges, bends;
+  std::vector<std::pair<int, int>> edges, loose, bends;
+  const std::vector<std::vector<int>> region = region_faces(live);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
     const surgery::MeshIndex& index = live.index().meshes[i];
     const mesh::RowMatrixXf<3>& placed = live.placement().positions[i];
-    std::vector<int> faces;
-    for (const Ball& b : balls_)
-      if (b.mesh == static_cast<int>(i))
-        index.bvh.faces_in_box(b.center(live.placement()) - Eigen::Vector3d::Constant(b.radius),
-                               b.center(live.placement()) + Eigen::Vector3d::Constant(b.radius), faces);
-    std::sort(faces.begin(), faces.end());
-    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-    const auto inside = [&](const std::vector<Ball>& balls, const Eigen::Vector3d& p) {
-      return std::any_of(balls.begin(), balls.end(), [&](const Ball& b) {
-        return b.mesh == static_cast<int>(i) && (p - b.center(live.placement())).norm() <= b.radius;
-      });
-    };
+    const std::vector<int>& faces = region[i];
+    const std::vector<int>& in_region = face_mark_[i];
+    const std::vector<Eigen::Vector4d> region_spheres = spheres(balls_, static_cast<int>(i), live.placement());
+    const std::vector<Eigen::Vector4d> release_spheres = spheres(releases_, static_cast<int>(i), live.placement());
     // Particles: one per welded class of the faces' corners.
     std::unordered_map<int, int> class_particle;
     const auto particle = [&](int v) {
@@ -198,8 +307,8 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
         ref_.push_back({static_cast<int>(i), rep});
         x_.push_back(known >= 0 ? vx_[i][static_cast<std::size_t>(known)] : at);
         v_.push_back(known >= 0 ? vv_[i][static_cast<std::size_t>(known)] : Eigen::Vector3d::Zero());
-        free_.push_back(inside(balls_, at) ? 1 : 0);
-        attached_.push_back(inside(releases_, at) ? 0 : 1);
+        free_.push_back(reach(region_spheres, at) < scale_ ? 1 : 0);
+        attached_.push_back(reach(release_spheres, at) < scale_ ? 0 : 1);
         particle_mass.push_back(0.0);
       }
       pv = it->second;
@@ -212,10 +321,13 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
       for (int k = 0; k < 3; ++k) corner[static_cast<std::size_t>(k)] = particle(m.faces(f, k));
       for (int k = 0; k < 3; ++k) {
         const int a = corner[static_cast<std::size_t>(k)], b = corner[static_cast<std::size_t>((k + 1) % 3)];
-        if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
-        // Bending across edge k, once per pair of region faces.
+        // An edge between two region faces is taken from the first of them; one without a twin
+        // (a border, a non-manifold edge) may come from several faces and is deduplicated.
         const int g = index.neighbor[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
-        if (g > f && std::binary_search(faces.begin(), faces.end(), g)) {
+        const bool twin_in_region = g >= 0 && in_region[static_cast<std::size_t>(g)] == mark_;
+        if (a != b && (g < 0 || !twin_in_region || g > f)) (g < 0 ? loose : edges).emplace_back(std::min(a, b), std::max(a, b));
+        // Bending across edge k, once per pair of region faces.
+        if (g > f && twin_in_region) {
           const int kg = index.edge_across(f, k);
           if (kg < 0) continue;
           const int a2 = corner[static_cast<std::size_t>((k + 2) % 3)], b2 = particle(m.faces(g, (kg + 2) % 3));
@@ -226,9 +338,10 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
   }
   for (std::size_t p = 0; p < x_.size(); ++p)
     inverse_mass_.push_back(free_[p] != 0 && particle_mass[p] > 0 ? 1.0 / particle_mass[p] : 0.0);
-  const auto add = [&](std::vector<std::pair<int, int>>& pairs, float scale, float compliance) {
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  std::sort(loose.begin(), loose.end());
+  loose.erase(std::unique(loose.begin(), loose.end()), loose.end());
+  edges.insert(edges.end(), loose.begin(), loose.end());
+  const auto add = [&](const std::vector<std::pair<int, int>>& pairs, float scale, float compliance) {
     for (const auto& [a, b] : pairs)
       if (inverse_mass_[static_cast<std::size_t>(a)] + inverse_mass_[static_cast<std::size_t>(b)] > 0)
         links_.push_back({a, b, scale, compliance});
@@ -244,6 +357,51 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
     if (held[static_cast<std::size_t>(pieces.find(static_cast<int>(p)))] == 0) attached_[p] = 1;
   add(edges, static_cast<float>(1 - options_.pretension), static_cast<float>(options_.stretch_compliance));
   add(bends, 1.0f, static_cast<float>(options_.bend_compliance));
+  order_links();
+}
+
+void Tissue::order_links() {
+  // Greedy colouring: a link takes the first colour that no earlier link at either of its
+  // particles has. Links of one colour share no particle, so substep() computes all their
+  // corrections before applying any (the same result as one after the other, Gauss-Seidel),
+  // and the processor overlaps their square roots and divisions.
+  std::vector<std::uint64_t> used(x_.size(), 0);
+  std::vector<int> colour(links_.size(), 0);
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    auto& ua = used[static_cast<std::size_t>(links_[k].a)];
+    auto& ub = used[static_cast<std::size_t>(links_[k].b)];
+    const std::uint64_t taken = ua | ub;
+    const int c = taken == ~std::uint64_t{0} ? 63 : std::countr_one(taken);
+    colour[k] = c;
+    ua |= std::uint64_t{1} << c;
+    ub |= std::uint64_t{1} << c;
+  }
+  std::vector<std::size_t> order(links_.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t i, std::size_t j) { return colour[i] < colour[j]; });
+  std::vector<Link> sorted;
+  sorted.reserve(links_.size());
+  colour_begin_.clear();
+  const double h2 = options_.substep * options_.substep;
+  for (const std::size_t k : order) {
+    if (colour_begin_.size() <= static_cast<std::size_t>(colour[k])) colour_begin_.push_back(sorted.size());
+    Link l = links_[k];
+    l.wa = inverse_mass_[static_cast<std::size_t>(l.a)];
+    l.wb = inverse_mass_[static_cast<std::size_t>(l.b)];
+    l.gain = 1.0 / (l.wa + l.wb + static_cast<double>(l.compliance) / h2);
+    sorted.push_back(l);
+  }
+  colour_begin_.push_back(sorted.size());
+  links_ = std::move(sorted);
+  link_gain_.resize(links_.size());
+  link_scale_.resize(links_.size());
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    link_gain_[k] = links_[k].gain;
+    link_scale_[k] = links_[k].scale;
+  }
+  correction_.assign(links_.size(), 0.0);
+  length2_.assign(links_.size(), 0.0);
+  rest2_.assign(links_.size(), 0.0);
 }
 
 // ---- Simulation ----
@@ -278,16 +436,33 @@ void Tissue::substep(const std::vector<Eigen::Vector3d>& t, double h) {
     const Eigen::Vector3d d = x_[p] - t[p];
     x_[p] -= d * (inverse_mass_[p] / (inverse_mass_[p] + attach));
   }
-  for (const Link& l : links_) {
-    const auto a = static_cast<std::size_t>(l.a), b = static_cast<std::size_t>(l.b);
-    const Eigen::Vector3d d = x_[a] - x_[b];
-    const double len = d.norm(), w = inverse_mass_[a] + inverse_mass_[b];
-    if (!(len > 0)) continue;
-    const double c = len - l.scale * (t[a] - t[b]).norm();
-    const double dl = -c / (w + l.compliance / (h * h));
-    const Eigen::Vector3d g = d / len;
-    x_[a] += (inverse_mass_[a] * dl) * g;
-    x_[b] -= (inverse_mass_[b] * dl) * g;
+  Eigen::Vector3d* const x = x_.data();
+  const Eigen::Vector3d* const target = t.data();
+  const Link* const links = links_.data();
+  double* const s = correction_.data();
+  double* const len2 = length2_.data();
+  double* const rest2 = rest2_.data();
+  for (std::size_t c = 0; c + 1 < colour_begin_.size(); ++c) {
+    const std::size_t begin = colour_begin_[c], end = colour_begin_[c + 1];
+    for (std::size_t k = begin; k < end; ++k) {
+      const Link& l = links[k];
+      len2[k] = (x[l.a] - x[l.b]).squaredNorm();
+      rest2[k] = (target[l.a] - target[l.b]).squaredNorm();
+    }
+    // Δλ = −C / (w_a + w_b + α/h²) along d/|d|, with C = |d| − scale·|t_a − t_b|; s = Δλ/|d|
+    // (the step is s·d) = gain·(scale·√(rest²/|d|²) − 1): one division and one root per link,
+    // in packets. A zero |d| (d = 0, no step) is floored so that s stays finite.
+    const auto n = static_cast<Eigen::Index>(end - begin);
+    const Eigen::Map<const Eigen::ArrayXd> l2(len2 + begin, n), r2(rest2 + begin, n);
+    Eigen::Map<Eigen::ArrayXd>(s + begin, n) =
+        Eigen::Map<const Eigen::ArrayXd>(link_gain_.data() + begin, n) *
+        (Eigen::Map<const Eigen::ArrayXd>(link_scale_.data() + begin, n) * (r2 / l2.max(1e-300)).sqrt() - 1.0);
+    for (std::size_t k = begin; k < end; ++k) {
+      const Link& l = links[k];
+      const Eigen::Vector3d g = (x[l.a] - x[l.b]) * s[k];
+      x[l.a] += l.wa * g;
+      x[l.b] -= l.wb * g;
+    }
   }
   const double keep = std::exp(-options_.damping * h);
   for (std::size_t p = 0; p < n; ++p) v_[p] = free_[p] != 0 ? Eigen::Vector3d((x_[p] - before[p]) * (keep / h)) : Eigen::Vector3d::Zero();

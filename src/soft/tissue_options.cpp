@@ -26,6 +26,9 @@ void TissueOptions::validate() const {
   if (!(substep > 0 && substep <= 0.1))
     throw InvalidInputError("tissue options: substep must be in (0, 0.1] seconds, got " + std::to_string(substep));
   if (!gravity.allFinite()) throw InvalidInputError("tissue options: gravity must be finite");
+  if (max_particles < 0)
+    throw InvalidInputError("tissue options: max_particles must be >= 0 (0: no budget), got " +
+                            std::to_string(max_particles));
 }
 
 }  // namespace cgamesh::soft

@@ -71,6 +71,9 @@ TEST(TissueOptions, BadValuesNameTheField) {
   o = {};
   o.gravity.x() = INFINITY;
   EXPECT_NE(message(o).find("gravity"), std::string::npos);
+  o = {};
+  o.max_particles = -1;
+  EXPECT_NE(message(o).find("max_particles"), std::string::npos);
 }
 
 TEST(Tissue, NothingHappensWhenNothingHappens) {
@@ -173,6 +176,59 @@ TEST(Tissue, AReleasedPieceFallsAsHalfGTSquared) {
   const auto x = tissue.positions(live, rest);
   const double drop = (live.placement().positions[0] - x[0]).col(1).cast<double>().mean();
   EXPECT_NEAR(drop, 0.5 * 9.81 * 0.25, 0.01 * 0.5 * 9.81 * 0.25);
+}
+
+// Issue #34: with gravity off, a released piece's momentum is conserved. The sheet falls for a
+// while (momentum M·g·t), then, with gravity off, skin under tension pulls it out of shape:
+// the links' corrections are internal, so the momentum stays.
+TEST(Tissue, WithGravityOffAFreePieceKeepsItsMomentum) {
+  surgery::LiveModel live = live_at_rest(sheet(8));
+  TissueOptions o;
+  o.attachment_compliance = 1e12;
+  o.damping = 0;
+  o.pretension = 0;
+  Tissue tissue(live, o);
+  tissue.select(live, 0, Eigen::Vector3d(4, 4, 0), 100);
+  const anim::Pose rest = anim::rest_pose(live.model().skeleton);
+  for (int frame = 0; frame < 9; ++frame) tissue.step(live, rest, 1.0 / 90);
+  const Eigen::Vector3d falling = tissue.momentum();
+  EXPECT_NEAR(falling.y(), -tissue.total_mass() * 9.81 * 0.1, 0.02 * tissue.total_mass() * 9.81 * 0.1);
+  o.gravity.setZero();
+  o.pretension = 0.2;
+  tissue.set_options(live, o);
+  const auto before = tissue.positions(live, rest);
+  for (int frame = 0; frame < 30; ++frame) tissue.step(live, rest, 1.0 / 90);
+  EXPECT_LE((tissue.momentum() - falling).norm(), 1e-6 * falling.norm()) << tissue.momentum().transpose();
+  // Not a piece at rest: the tension moved it about (besides the fall).
+  const auto after = tissue.positions(live, rest);
+  const Eigen::RowVector3f drift = (after[0] - before[0]).colwise().mean();
+  double shape = 0;
+  for (Eigen::Index v = 0; v < after[0].rows(); ++v)
+    shape = std::max(shape, static_cast<double>((after[0].row(v) - before[0].row(v) - drift).norm()));
+  EXPECT_GT(shape, 0.1);
+}
+
+// The budget bounds a step's cost: on a fine sheet the region keeps to max_particles (its
+// balls shrunk by one factor), and the wound still opens.
+TEST(Tissue, TheRegionKeepsToItsBudget) {
+  surgery::LiveModel live = live_at_rest(sheet(40));
+  TissueOptions o;
+  o.gravity.setZero();
+  o.pretension = 0.2;
+  o.region_radius = 20;
+  o.max_particles = 300;
+  Tissue tissue(live, o);
+  const surgery::LiveTear tear =
+      surgery::tear(live, std::vector<surgery::Scalpel>{{{15.5, 20.5, 5}, {15.5, 20.5, -5}}, {{24.5, 20.5, 5}, {24.5, 20.5, -5}}});
+  tissue.follow(live, std::span(&tear.change, 1));
+  EXPECT_LE(tissue.free_particles(), 300u);
+  EXPECT_GT(tissue.free_particles(), 150u);
+  const anim::Pose rest = anim::rest_pose(live.model().skeleton);
+  (void)tissue.settle(live, rest, 2.0);
+  EXPECT_GT(largest_difference(tissue.positions(live, rest), live.placement().positions), 0.1) << "the wound opened";
+  o.max_particles = 0;
+  tissue.set_options(live, o);
+  EXPECT_GT(tissue.free_particles(), 1000u) << "without a budget, the whole ball";
 }
 
 TEST(Tissue, TheBakedModelIsTheSimulatedSurface) {

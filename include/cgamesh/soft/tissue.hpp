@@ -43,6 +43,10 @@ class Tissue {
   explicit Tissue(const surgery::LiveModel& live, const TissueOptions& options = {});
 
   [[nodiscard]] const TissueOptions& options() const noexcept { return options_; }
+  /// New options for the tissue as it is (a viewer's sliders): masses follow the density, the
+  /// wounds' regions and releases the new radii; positions and velocities are kept.
+  /// @throws InvalidInputError as TissueOptions::validate() (the tissue is then unchanged).
+  void set_options(const surgery::LiveModel& live, const TissueOptions& options);
 
   /// Follows an in-place cut, tear or drill (its MeshChanges), in time proportional to the
   /// change and the region: new vertices get masses from their origins (the total is
@@ -80,6 +84,8 @@ class Tissue {
   [[nodiscard]] anim::RiggedModel bake(const surgery::LiveModel& live, const anim::Pose& pose) const;
 
   [[nodiscard]] double total_mass() const noexcept;
+  /// Σ m·v over the simulated particles (kg · model units per second).
+  [[nodiscard]] Eigen::Vector3d momentum() const noexcept;
   /// Simulated (free) particles.
   [[nodiscard]] std::size_t free_particles() const noexcept;
   /// All particles of the region (free and those pinned at its border).
@@ -91,6 +97,7 @@ class Tissue {
     int a, b;     ///< particles
     float scale;  ///< rest length: scale × the skinned distance
     float compliance;
+    double wa = 0, wb = 0, gain = 0;  ///< inverse masses and 1 / (wa + wb + compliance / substep²)
   };
   struct VertexRef {
     int mesh, vertex;  ///< the particle's representative vertex (its weld class's)
@@ -110,8 +117,19 @@ class Tissue {
 
   /// Writes the particles' state back to their vertices and empties the region's particles.
   void save_state();
+  /// The balls of mesh `mesh` as (centre, 1 / radius).
+  [[nodiscard]] static std::vector<Eigen::Vector4d> spheres(const std::vector<Ball>& balls, int mesh,
+                                                            const surgery::Placement& placed);
+  /// The least over `spheres` of |p − centre| / radius.
+  [[nodiscard]] static double reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::Vector3d& p);
+  /// Per mesh, the sorted faces of the region within options().max_particles; sets scale_ and
+  /// marks them in face_mark_ with mark_.
+  [[nodiscard]] std::vector<std::vector<int>> region_faces(const surgery::LiveModel& live);
   /// Particles and links of the region (the faces in its balls), from the per-vertex state.
   void rebuild(const surgery::LiveModel& live);
+  /// Orders the links colour by colour (no two links of a colour share a particle) and makes
+  /// their constants.
+  void order_links();
   /// Skinned target of every particle in `pose` (palettes made once).
   void targets_in(const surgery::LiveModel& live, const anim::Pose& pose, std::vector<Eigen::Vector3d>& out) const;
   /// One XPBD substep of length h towards targets `t`.
@@ -129,13 +147,20 @@ class Tissue {
   /// back has no state (its old one is from another time).
   std::vector<std::vector<int>> saved_;
   int generation_ = 0;
+  /// The factor every ball is shrunk by to keep the region within the budget (1: none).
+  double scale_ = 1;
+  std::vector<std::vector<int>> face_mark_;  ///< per mesh, per face: the region query that saw it
+  int mark_ = 0;
   // Per particle.
   std::vector<VertexRef> ref_;
   std::vector<Member> members_;
   std::vector<Eigen::Vector3d> x_, v_, previous_target_, scratch_;
   std::vector<double> inverse_mass_;
   std::vector<char> free_, attached_;
-  std::vector<Link> links_;
+  std::vector<Link> links_;          ///< colour by colour
+  std::vector<std::size_t> colour_begin_;  ///< first link of each colour, and the end
+  std::vector<double> link_gain_, link_scale_;  ///< per link, as in links_ (packets read them)
+  std::vector<double> correction_, length2_, rest2_;  ///< per link, a substep's Δλ/|d|, |d|², |t_a − t_b|²
   double carried_ = 0;  ///< simulated time owed from the last step (< substep)
   bool have_targets_ = false;
 };
