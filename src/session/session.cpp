@@ -187,6 +187,7 @@ void Session::replace_model(anim::RiggedModel model) {
   surgery::Placement placement = surgery::place(model, pose_of(model));
   live_ = surgery::LiveModel(std::move(model), std::move(placement));
   placed_version_ = pose_version_;
+  restart_tissue();
 }
 
 anim::Pose Session::pose_of(const anim::RiggedModel& m) const {
@@ -204,7 +205,7 @@ anim::Pose Session::pose_of(const anim::RiggedModel& m) const {
   return p;
 }
 
-void Session::push_undo() { undo_.push_back({live_, placed_version_, source_}); }
+void Session::push_undo() { undo_.push_back({live_, placed_version_, source_, tissue_}); }
 
 std::string Session::next_output() const { return "step" + std::to_string(steps_ + 1) + ".glb"; }
 
@@ -280,7 +281,9 @@ OperationReport Session::cut(const Eigen::Vector3d& normal, double d, const surg
                 (options.own_side_influences ? " --own-side-influences" : "") + rest_argument(options.rest) + " -o " +
                 next_output();
     if (!options.cap) {
-      r.warnings = surgery::cut(live_, plane, options).warnings;
+      const surgery::LiveCut c = surgery::cut(live_, plane, options);
+      r.warnings = c.warnings;
+      follow_tissue(c.changes);
       return;
     }
     surgery::ModelCut c = surgery::cut(live_.model(), live_.placement(), plane, options);
@@ -302,7 +305,9 @@ OperationReport Session::tear(std::span<const surgery::Scalpel> scalpel, const s
   return operate([&](OperationReport& r) {
     r.kind = "tear";
     r.command = tear_command(scalpel, options, pose_arguments());
-    r.warnings = surgery::tear(live_, scalpel, options).warnings;
+    const surgery::LiveTear t = surgery::tear(live_, scalpel, options);
+    r.warnings = t.warnings;
+    follow_tissue(std::span(&t.change, 1));
   });
 }
 
@@ -323,7 +328,9 @@ OperationReport Session::drill(const Eigen::Vector3d& tip, const Eigen::Vector3d
                      ? " --max-region-faces " + std::to_string(options.max_region_faces)
                      : "") +
                 rest_argument(options.rest) + " -o " + next_output();
-    r.warnings = surgery::drill(live_, tip, base, radius, options).warnings;
+    const surgery::LiveDrill d = surgery::drill(live_, tip, base, radius, options);
+    r.warnings = d.warnings;
+    follow_tissue(d.changes);
   });
 }
 
@@ -360,7 +367,9 @@ std::optional<OperationReport> Session::stroke_step(const surgery::Scalpel& blad
   r.kind = "tear step";
   try {
     const auto start = Clock::now();
-    r.warnings = surgery::tear(live_, step).warnings;
+    const surgery::LiveTear t = surgery::tear(live_, step);
+    r.warnings = t.warnings;
+    follow_tissue(std::span(&t.change, 1));
     r.milliseconds = milliseconds_since(start);
   } catch (const Error& e) {
     stroke_.pop_back();
@@ -384,11 +393,15 @@ std::optional<OperationReport> Session::end_stroke(const surgery::TearOptions& o
   // command line makes it: one path, opened over its whole length.
   live_ = before.live;
   placed_version_ = before.placed_version;
+  restore_tissue(tissue_ ? std::optional(tissue_->options()) : std::nullopt, before.tissue);
   OperationReport r;
   r.kind = "tear";
   r.command = tear_command(stroke_, options, stroke_pose_);
-  return finish(std::move(r),
-                [&](OperationReport& x) { x.warnings = surgery::tear(live_, stroke_, options).warnings; });
+  return finish(std::move(r), [&](OperationReport& x) {
+    const surgery::LiveTear t = surgery::tear(live_, stroke_, options);
+    x.warnings = t.warnings;
+    follow_tissue(std::span(&t.change, 1));
+  });
 }
 
 bool Session::undo() { return !stroking_ && step_history(undo_, redo_); }
@@ -397,10 +410,12 @@ bool Session::redo() { return !stroking_ && step_history(redo_, undo_); }
 
 bool Session::step_history(std::vector<Snapshot>& from, std::vector<Snapshot>& to) {
   if (from.empty()) return false;
-  to.push_back({std::move(live_), placed_version_, source_});
+  to.push_back({std::move(live_), placed_version_, source_, std::move(tissue_)});
   live_ = std::move(from.back().live);
   placed_version_ = from.back().placed_version;
   source_ = from.back().source;
+  restore_tissue(to.back().tissue ? std::optional(to.back().tissue->options()) : std::nullopt,
+                 std::move(from.back().tissue));
   from.pop_back();
   after_model_change();
   return true;
@@ -419,6 +434,7 @@ void Session::end_stroke_discarding() {
   stroking_ = false;
   live_ = std::move(undo_.back().live);
   placed_version_ = undo_.back().placed_version;
+  restore_tissue(tissue_ ? std::optional(tissue_->options()) : std::nullopt, std::move(undo_.back().tissue));
   undo_.pop_back();
 }
 
@@ -430,6 +446,73 @@ void Session::after_model_change(const anim::RiggedModel& m) {
     clip_ = -1;
     ++pose_version_;
   }
+}
+
+// ---- Living tissue ----
+
+void Session::set_tissue(const std::optional<soft::TissueOptions>& options) {
+  if (!options) {
+    tissue_.reset();
+    return;
+  }
+  if (tissue_) {
+    tissue_->set_options(live_, *options);
+    return;
+  }
+  place_now();
+  tissue_.emplace(live_, *options);
+}
+
+void Session::follow_tissue(std::span<const surgery::MeshChange> changes) {
+  if (tissue_) tissue_->follow(live_, changes);
+}
+
+void Session::restore_tissue(const std::optional<soft::TissueOptions>& now, std::optional<soft::Tissue> saved) {
+  if (!now) {
+    tissue_.reset();
+    return;
+  }
+  tissue_ = std::move(saved);
+  if (!tissue_)
+    tissue_.emplace(live_, *now);
+  else if (!(tissue_->options() == *now))
+    tissue_->set_options(live_, *now);
+}
+
+void Session::restart_tissue() {
+  if (tissue_) tissue_.emplace(live_, soft::TissueOptions(tissue_->options()));
+}
+
+double Session::step_tissue(double dt) {
+  if (!tissue_) return 0;
+  const auto start = Clock::now();
+  tissue_->step(live_, pose(), dt);
+  return milliseconds_since(start);
+}
+
+std::vector<mesh::RowMatrixXf<3>> Session::tissue_positions() const {
+  if (tissue_) return tissue_->positions(live_, pose());
+  return surgery::place(model(), pose()).positions;
+}
+
+OperationReport Session::bake_tissue() {
+  if (!tissue_) throw InvalidInputError("bake: the tissue is off");
+  if (stroking_) throw InvalidInputError("bake: finish the tear stroke first");
+  const auto start = Clock::now();
+  OperationReport r;
+  r.kind = "bake tissue";
+  r.placement_milliseconds = place_now();
+  anim::RiggedModel baked = tissue_->bake(live_, pose());
+  push_undo();
+  replace_model(std::move(baked));
+  redo_.clear();
+  trim_undo();
+  r.milliseconds = milliseconds_since(start);
+  r.faces = face_total(model());
+  // The command line has no bake of its own: --soft settles and bakes one operation.
+  r.warnings.push_back("the baked tissue has no replay command: the commands that follow read the file before it "
+                       "(the command line bakes with --soft on the operation)");
+  return r;
 }
 
 // ---- Picking ----

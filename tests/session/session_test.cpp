@@ -174,6 +174,75 @@ TEST(Session, AStrokeEndsAsTheTearOverAllItsSteps) {
   EXPECT_EQ(faces(dragged), cesium().meshes[0].face_count());
 }
 
+// Issue #34 in the viewer's session: the tissue follows every in-place operation and a stroke
+// step by step; the wound opens while the clip plays; Bake is one undo step; undo, redo and a
+// model replaced keep the tissue on or off as the user set it.
+TEST(Session, TheTissueOpensADraggedTearWhileTheClipPlaysAndBakesAsOneUndoStep) {
+  const std::vector<cgamesh::surgery::Scalpel> blades{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}},
+                                                      {{-0.005, 0.93, 2}, {-0.005, 0.93, 0.06}},
+                                                      {{-0.02, 0.96, 2}, {-0.02, 0.96, 0.06}}};
+  Session s(cesium());
+  s.set_clip(0);
+  s.set_time(0.5);
+  cgamesh::soft::TissueOptions o;
+  o.gravity.setZero();
+  o.pretension = 0.2;
+  s.set_tissue(o);
+  ASSERT_NE(s.tissue(), nullptr);
+  EXPECT_EQ(s.tissue()->free_particles(), 0u);
+  s.begin_stroke();
+  for (const auto& b : blades) {
+    (void)s.stroke_step(b);
+    EXPECT_GE(s.step_tissue(1.0 / 90), 0.0);
+  }
+  EXPECT_GT(s.tissue()->free_particles(), 0u) << "the tissue followed the steps";
+  ASSERT_TRUE(s.end_stroke().has_value());
+  const std::size_t wound = s.tissue()->free_particles();
+  EXPECT_GT(wound, 0u);
+  // He walks on while the wound opens: simulated near it, skinned (exactly) elsewhere.
+  const auto first_new = static_cast<Eigen::Index>(cesium().meshes[0].vertex_count());
+  for (int frame = 0; frame < 45; ++frame) {
+    s.set_time(0.5 + frame / 90.0);
+    (void)s.step_tissue(1.0 / 90);
+  }
+  const auto simulated = s.tissue_positions();
+  const auto skinned = cgamesh::surgery::place(s.model(), s.pose()).positions;
+  double opened = 0;
+  for (Eigen::Index v = first_new; v < simulated[0].rows(); ++v)
+    opened = std::max(opened, static_cast<double>((simulated[0].row(v) - skinned[0].row(v)).norm()));
+  EXPECT_GT(opened, 5e-3) << "the wound opened (model units: metres)";
+  Eigen::Index top = 0;
+  (void)skinned[0].col(1).maxCoeff(&top);
+  EXPECT_LT((simulated[0].row(top) - skinned[0].row(top)).norm(), 1e-6) << "the top of the head is far from the chest";
+  // Bake: one undo step; the wound is in the model's rest shape.
+  const long before = faces(s);
+  const auto baked = s.bake_tissue();
+  EXPECT_EQ(baked.kind, "bake tissue");
+  EXPECT_EQ(faces(s), before);
+  const auto after_bake = cgamesh::surgery::place(s.model(), s.pose()).positions;
+  EXPECT_LE((after_bake[0] - simulated[0]).cwiseAbs().maxCoeff(), 1e-5 * 1.9);
+  EXPECT_EQ(s.tissue()->free_particles(), 0u) << "afresh on the baked model";
+  ASSERT_TRUE(s.undo());
+  EXPECT_EQ(s.tissue()->free_particles(), wound) << "the tissue as it was before the bake";
+  EXPECT_TRUE(s.redo());
+  // Off stays off through undo; on again starts afresh.
+  s.set_tissue(std::nullopt);
+  EXPECT_EQ(s.tissue(), nullptr);
+  ASSERT_TRUE(s.undo());
+  EXPECT_EQ(s.tissue(), nullptr);
+  EXPECT_THROW((void)s.bake_tissue(), InvalidInputError);
+  s.set_tissue(o);
+  (void)s.drill({0, 1.3, -0.5}, {0, 1.3, 0.5}, 0.04);
+  EXPECT_GT(s.tissue()->free_particles(), 0u) << "a drill's wound";
+  cgamesh::surgery::CutOptions capped;
+  capped.cap = true;
+  (void)s.cut({0, 1, 0}, 0.9, capped);
+  EXPECT_EQ(s.tissue()->free_particles(), 0u) << "a capped cut replaces the model: the tissue starts afresh";
+  o.pretension = 1;
+  EXPECT_THROW(s.set_tissue(o), InvalidInputError);
+  EXPECT_DOUBLE_EQ(s.tissue()->options().pretension, 0.2);
+}
+
 TEST(Session, PickFindsTheFirstSurfaceOnTheRayAndItsJoint) {
   Session s(cesium());
   s.set_clip(0);

@@ -20,6 +20,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/deform/spec.hpp"
+#include "cgamesh/soft/tissue.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
 #include "cgamesh/surgery/live_model.hpp"
@@ -152,6 +153,28 @@ class Session {
   /// @throws as tear(); the model is then as before the stroke.
   std::optional<OperationReport> end_stroke(const surgery::TearOptions& options = {});
 
+  // ---- Living tissue (soft/tissue.hpp) on the model as edited in place ----
+  /// Turns the tissue on with `options` (or changes them, keeping its state), or off (nullopt).
+  /// Every in-place cut, tear, drill and stroke step is followed; an operation that replaces
+  /// the model (a capped cut, a deformation, a generated clip, undo to before the tissue's
+  /// wounds) starts it afresh on the new model. Not an undo step.
+  /// @throws InvalidInputError as TissueOptions::validate() (the tissue is then as before).
+  void set_tissue(const std::optional<soft::TissueOptions>& options);
+  /// The tissue, or null when it is off.
+  [[nodiscard]] const soft::Tissue* tissue() const noexcept { return tissue_ ? &*tissue_ : nullptr; }
+  /// Advances the tissue by `dt` seconds towards the current pose (nothing when it is off);
+  /// returns the milliseconds it took.
+  /// @throws as soft::Tissue::step (SolverError: the tissue is then as before).
+  double step_tissue(double dt);
+  /// Per mesh, #V×3 world positions of the surface as the tissue has it now (simulated near the
+  /// wounds, skinned elsewhere), or the skinned positions when it is off.
+  [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> tissue_positions() const;
+  /// Writes the tissue's surface into the model (soft::Tissue::bake in the current pose) as one
+  /// undo step: the wound keeps its simulated shape as the model animates, and the tissue
+  /// starts afresh on it.
+  /// @throws InvalidInputError when the tissue is off or during a stroke.
+  OperationReport bake_tissue();
+
   [[nodiscard]] bool can_undo() const noexcept { return !undo_.empty() && !stroking_; }
   [[nodiscard]] bool can_redo() const noexcept { return !redo_.empty() && !stroking_; }
   /// Goes back to before the last operation; false when there is none.
@@ -183,7 +206,15 @@ class Session {
     surgery::LiveModel live;
     long placed_version;
     std::string source;  ///< the file its model is, in the replay commands
+    std::optional<soft::Tissue> tissue;
   };
+  /// The tissue follows an in-place operation's changes.
+  void follow_tissue(std::span<const surgery::MeshChange> changes);
+  /// The tissue starts afresh on the model (after the model was replaced).
+  void restart_tissue();
+  /// After the model went back to a snapshot: off if the tissue is off `now`, else the
+  /// snapshot's tissue (`saved`; afresh when it had none) with the options of `now`.
+  void restore_tissue(const std::optional<soft::TissueOptions>& now, std::optional<soft::Tissue> saved);
   /// Places and indexes the model in the current pose unless it already is; returns the ms spent.
   double place_now();
   /// Runs `operation` on the placed model as one undo step: a snapshot first, dropped again
@@ -221,6 +252,7 @@ class Session {
   SessionOptions options_;
   anim::RiggedModel original_;
   surgery::LiveModel live_;
+  std::optional<soft::Tissue> tissue_;
   long pose_version_ = 0;    ///< bumped by every change of the pose
   long placed_version_ = 0;  ///< the pose version live_ is placed in (−1: none)
   int clip_ = -1;

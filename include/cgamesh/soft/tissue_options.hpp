@@ -41,6 +41,7 @@ struct TissueOptions {
   /// @throws InvalidInputError naming the field for a negative, NaN or infinite value, a zero
   ///         substep (or one above 0.1 s), or a pre-tension outside [0, 1).
   void validate() const;
+  [[nodiscard]] bool operator==(const TissueOptions&) const = default;
 };
 
 }  // namespace cgamesh::soft
