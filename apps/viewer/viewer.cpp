@@ -158,6 +158,8 @@ class Viewer {
   void apply_deformation();
   void deformation_panel();
   void morph_panel();
+  void tissue_panel();
+  void step_tissue(double seconds);
   void log(const session::OperationReport& r);
   void failed(const std::string& what);
   void screenshot(const std::string& path) const;
@@ -203,6 +205,9 @@ class Viewer {
   // ffd, cage: the other control points and the lattice's or cage's edges, in the spec's space
   // (world: the bind pose), where the keys put them.
   std::vector<Eigen::Vector3f> free_control_points_, control_lines_;
+  // Living tissue: the options its sliders set, and the time of the last step.
+  soft::TissueOptions tissue_options_;
+  double tissue_ms_ = 0;
   std::deque<std::string> log_;
   std::string status_;
   // Script.
@@ -623,7 +628,10 @@ void Viewer::deformation_panel() {
 
 render::Scene Viewer::scene() const {
   const anim::RiggedModel& shown = preview_ ? *preview_ : session_.model();
-  const std::array<render::ModelInstance, 1> one{render::ModelInstance{&shown, session_.pose(), &session_.index()}};
+  std::vector<mesh::RowMatrixXf<3>> tissue;
+  if (!preview_ && session_.tissue() != nullptr) tissue = session_.tissue_positions();
+  const std::array<render::ModelInstance, 1> one{
+      render::ModelInstance{&shown, session_.pose(), &session_.index(), tissue.empty() ? nullptr : &tissue}};
   render::Scene s = render::model_scene(one, options_.scene);
   if (preview_ && !control_lines_.empty()) {
     render::LineSet l;
@@ -792,6 +800,53 @@ void Viewer::morph_panel() {
   if (ImGui::Button("Reset morph weights")) session_.clear_morph_weights();
 }
 
+// ---- Living tissue ----
+
+void Viewer::step_tissue(double seconds) {
+  if (session_.tissue() == nullptr) return;
+  // A slow frame (a window dragged, a breakpoint) is not simulated all at once.
+  guarded("tissue", [&] { tissue_ms_ = session_.step_tissue(std::min(seconds, 1.0 / 30)); });
+}
+
+void Viewer::tissue_panel() {
+  if (!ImGui::CollapsingHeader("Living tissue", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  bool on = session_.tissue() != nullptr;
+  soft::TissueOptions& o = tissue_options_;
+  if (on) o = session_.tissue()->options();  // a script may have set them
+  bool changed = ImGui::Checkbox("on (wounds open under the skin's tension)", &on);
+  if (on) {
+    float tension = static_cast<float>(o.pretension), stiffness = static_cast<float>(1 / o.stretch_compliance),
+          hold = static_cast<float>(1 / o.attachment_compliance), damping = static_cast<float>(o.damping),
+          region = static_cast<float>(o.region_radius / session_.size());
+    int budget = o.max_particles;
+    bool gravity = o.gravity.squaredNorm() > 0;
+    // Each slider sets its option; any change rebuilds the tissue's links (Session::set_tissue).
+    changed |= ImGui::SliderFloat("tension", &tension, 0, 0.5f, "%.3f");
+    changed |= ImGui::SliderFloat("stiffness", &stiffness, 1e2f, 1e9f, "%.3g N/unit", ImGuiSliderFlags_Logarithmic);
+    changed |= ImGui::SliderFloat("hold on body", &hold, 1e1f, 1e7f, "%.3g N/unit", ImGuiSliderFlags_Logarithmic);
+    changed |= ImGui::SliderFloat("damping", &damping, 0, 50, "%.1f /s");
+    changed |= ImGui::SliderFloat("region", &region, 0, 0.5f, region == 0 ? "default (0.1 x size)" : "%.3f x size");
+    changed |= ImGui::SliderInt("budget", &budget, 0, 50000, budget == 0 ? "no limit" : "%d particles");
+    o.pretension = tension;
+    o.stretch_compliance = 1 / static_cast<double>(stiffness);
+    o.attachment_compliance = 1 / static_cast<double>(hold);
+    o.damping = damping;
+    o.region_radius = region * session_.size();
+    o.max_particles = budget;
+    if (ImGui::Checkbox("gravity", &gravity)) {
+      o.gravity = gravity ? Vec3(0, -9.81, 0) : Vec3::Zero();
+      changed = true;
+    }
+  }
+  if (changed) guarded("tissue", [&] { session_.set_tissue(on ? std::optional(o) : std::nullopt); });
+  if (const soft::Tissue* t = session_.tissue()) {
+    ImGui::Text("%zu particles simulated, %zu links; %.3f ms per frame", t->free_particles(), t->links(), tissue_ms_);
+    ImGui::BeginDisabled(session_.stroking());
+    if (ImGui::Button("Bake (the wound's shape into the model)")) guarded("bake", [&] { log(session_.bake_tissue()); });
+    ImGui::EndDisabled();
+  }
+}
+
 void Viewer::panel() {
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowSize(ImVec2(360, static_cast<float>(win_height_) - 16), ImGuiCond_FirstUseEver);
@@ -958,6 +1013,7 @@ void Viewer::panel() {
     for (const std::string& l : log_) ImGui::TextUnformatted(l.c_str());
   }
 
+  tissue_panel();
   deformation_panel();
 
   if (ImGui::CollapsingHeader("Save", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -989,8 +1045,10 @@ void Viewer::run() {
     if (options_.script.empty()) {
       mouse();
       advance(dt);
+      step_tissue(dt);
     } else {
       script_step();
+      step_tissue(1.0 / 30);  // scripts run at 30 frames per second of model time, on any machine
     }
     update_preview();
     if (fb_width_ > 0 && fb_height_ > 0) {

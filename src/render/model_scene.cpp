@@ -181,6 +181,11 @@ Scene model_scene(std::span<const ModelInstance> instances, const ModelSceneOpti
       anim::skin_into(m, palette, d.positions, &d.normals);
       d.faces = m.faces;
       const std::size_t mi = static_cast<std::size_t>(&m - model.meshes.data());
+      if (in.positions != nullptr) {
+        if (mi >= in.positions->size() || (*in.positions)[mi].rows() != m.vertex_count())
+          throw InvalidInputError("model_scene: the positions given do not fit mesh " + std::to_string(mi));
+        d.positions = (*in.positions)[mi];
+      }
       const auto mesh_pieces = [&] {
         return in.index != nullptr && mi < in.index->meshes.size() ? surgery::pieces(m, in.index->meshes[mi].weld)
                                                                    : surgery::pieces(m);

@@ -42,6 +42,8 @@ const std::map<std::string, Grammar>& grammar() {
       {"tear", {2, -1, nullptr, true, true}},
       {"drag", {2, -1, nullptr, true}},
       {"drill", {3, 3, "wall", false, true}},
+      {"tissue", {1, 1, nullptr, false, true}},
+      {"bake", {0, 0, nullptr, false, true}},
       {"undo", {0, 0, nullptr, false, true}},
       {"redo", {0, 0, nullptr, false, true}},
       {"reset", {0, 0, nullptr, false, true}},
@@ -156,6 +158,13 @@ ScriptAction parse_line(std::vector<std::string> words, int line, const std::str
       throw InvalidInputError(where + "morph: " + e.what());
     }
     a.text = words[0];
+  } else if (a.verb == "tissue") {
+    a.text = words[0];
+    if (a.text != "off") {
+      a.numbers = io::parse_numbers(words[0], 1, "tissue TENSION");
+      if (!(a.numbers[0] >= 0 && a.numbers[0] < 1))
+        throw InvalidInputError(where + "tissue: the tension is a fraction in [0, 1), or 'off'");
+    }
   } else if (a.verb == "skinning") {
     if (!io::kSkinningModes.contains(words[0]))
       throw InvalidInputError(where + "skinning: expected cga, versor, matrix or dqs");
@@ -248,6 +257,16 @@ std::optional<OperationReport> apply(Session& session, const ScriptAction& a) {
     surgery::DrillOptions o;
     o.wall = a.flag;
     return session.drill(vec3(a.numbers, 0), vec3(a.numbers, 3), a.numbers[6], o);
+  } else if (a.verb == "tissue") {
+    if (a.text == "off") {
+      session.set_tissue(std::nullopt);
+    } else {
+      soft::TissueOptions o = session.tissue() != nullptr ? session.tissue()->options() : soft::TissueOptions{};
+      o.pretension = a.numbers[0];
+      session.set_tissue(o);
+    }
+  } else if (a.verb == "bake") {
+    return session.bake_tissue();
   } else if (a.verb == "undo") {
     session.undo();
   } else if (a.verb == "redo") {

@@ -12,6 +12,7 @@
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/render/image.hpp"
 #include "cgamesh/render/model_scene.hpp"
+#include "cgamesh/surgery/placement.hpp"
 
 #include "apps/cli_util.hpp"
 #include "render/render_checks.hpp"
@@ -246,6 +247,52 @@ TEST(CliView, WorksOnAnAssimpTestModel) {
   const auto image =
       cgamesh::render::decode_image(std::span(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()), "png");
   EXPECT_GT(cgamesh_test::silhouette(image, {255, 255, 255}).count(), 20000);
+}
+
+// Issue #34: with the tissue on, a tear dragged across CesiumMan's chest opens while he walks;
+// the panel shows it; Bake writes the open wound into the model, which then animates with it.
+TEST(CliView, LivingTissueOpensADraggedTearWhileHeWalksAndBakes) {
+  ASSERT_TRUE(xvfb_available()) << "xvfb-run is missing: scripts/install-deps.sh installs it";
+  TempDir dir;
+  const fs::path script = dir / "tissue.txt", saved = dir / "baked.glb", shot = dir / "tissue.png";
+  {
+    std::ofstream s(script);
+    s << "clip 0\nplay 0.5\ntissue 0.3\n"
+         "drag 598,395 604,396 610,397 616,398 622,399 628,400 634,401 640,402 646,403 652,404\n"
+         "play 1.2\nscreenshot \""
+      << shot.string() << "\" panel\nbake\nsave \"" << saved.string() << "\"\nquit\n";
+  }
+  const Result r = run_view(dir.path(), {cesium().string(), "--script", script.string(), "--json"});
+  ASSERT_EQ(r.code, 0) << r;
+  const std::vector<nlohmann::json> log = json_lines(r.out);
+  ASSERT_GE(log.size(), 3u) << r;
+  EXPECT_EQ(log[0]["operation"], "tear");
+  EXPECT_EQ(log[2]["operation"], "bake tissue") << r;
+  // The tear alone, by the command line its log prints, against the baked model: the wound's
+  // vertices moved (opened) by millimetres, the rest of the body did not move.
+  const std::map<std::string, std::string> steps{{"step1.glb", (dir / "step1.glb").string()}};
+  run_ok(dir, command_words(log[0]["command"], steps));
+  const RiggedModel torn = cgamesh::io::load_model(dir / "step1.glb");
+  const RiggedModel baked = cgamesh::io::load_model(saved);
+  ASSERT_EQ(face_count(baked), face_count(torn));
+  const auto a = cgamesh::surgery::place(torn, cgamesh::anim::sample(torn.skeleton, torn.clips[0], 1.2, cgamesh::anim::BlendMode::format)).positions;
+  const auto b = cgamesh::surgery::place(baked, cgamesh::anim::sample(baked.skeleton, baked.clips[0], 1.2, cgamesh::anim::BlendMode::format)).positions;
+  double moved = 0;
+  long unmoved = 0, total = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (Eigen::Index v = 0; v < std::min(a[i].rows(), b[i].rows()); ++v) {
+      const double d = (a[i].row(v) - b[i].row(v)).norm();
+      moved = std::max(moved, d);
+      unmoved += d < 1e-4 ? 1 : 0;
+      ++total;
+    }
+  EXPECT_GT(moved, 2e-3) << "the wound opened";
+  EXPECT_GT(unmoved, total * 8 / 10) << "away from the wound, the body is as skinned";
+  if (cgamesh_test::validator_available()) {
+    std::string validator_log;
+    EXPECT_EQ(cgamesh_test::validate_gltf(saved, validator_log), 0) << validator_log;
+  }
+  EXPECT_TRUE(fs::exists(shot));
 }
 
 TEST(CliView, MorphWeightsChangeWhatIsShown) {

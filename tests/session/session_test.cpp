@@ -395,6 +395,26 @@ TEST(Script, ParsesEveryActionAndNamesTheLineOfABadOne) {
   fails("blend cubic\n", "format, linear or log");
   fails("save \"open\n", "quote");
   fails("undo now\n", "expected 0");
+  fails("tissue 1\n", "s.txt:1: tissue: the tension");
+  fails("tissue on\n", "tissue TENSION");
+}
+
+TEST(Script, TissueActionsTurnItOnAndOffAndBake) {
+  Session s(cesium());
+  const auto actions = cgamesh::session::parse_script(
+      "tissue 0.25\ntear 0.01,0.90,2,0.01,0.90,0.06 -0.03,1.0,2,-0.03,1.0,0.06\nbake\ntissue off\n", "s.txt");
+  ASSERT_EQ(actions.size(), 4u);
+  (void)cgamesh::session::apply(s, actions[0]);
+  ASSERT_NE(s.tissue(), nullptr);
+  EXPECT_DOUBLE_EQ(s.tissue()->options().pretension, 0.25);
+  (void)cgamesh::session::apply(s, actions[1]);
+  EXPECT_GT(s.tissue()->free_particles(), 0u);
+  for (int frame = 0; frame < 30; ++frame) (void)s.step_tissue(1.0 / 30);
+  const auto baked = cgamesh::session::apply(s, actions[2]);
+  ASSERT_TRUE(baked.has_value());
+  EXPECT_EQ(baked->kind, "bake tissue");
+  (void)cgamesh::session::apply(s, actions[3]);
+  EXPECT_EQ(s.tissue(), nullptr);
 }
 
 TEST(Script, JointActionsChangeOnePartOfTheEdit) {

@@ -48,6 +48,9 @@ struct ModelInstance {
   /// When given (a LiveModel's index), pieces (the piece colours, explode) follow its welds, so
   /// the sides of a cut or tear made in place count apart though they share rest positions.
   const surgery::SurfaceIndex* index = nullptr;
+  /// When given, per mesh the #V×3 world positions to draw instead of the skinned ones (a soft
+  /// tissue's, soft/tissue.hpp); normals stay the skinned ones.
+  const std::vector<mesh::RowMatrixXf<3>>* positions = nullptr;
 };
 
 /// The scene of `instances` (e.g. the two pieces of a cut, each in its pose). Positions are

@@ -13,6 +13,7 @@
 //   cut NX,NY,NZ,D [cap]             tear HX,HY,HZ,TX,TY,TZ ... [open=W]
 //   drag X,Y X,Y ... [open=W]        (a tear dragged through window pixels, top-left origin)
 //   drill TX,TY,TZ BX,BY,BZ RADIUS [wall]
+//   tissue TENSION|off (living tissue on, with that pre-tension, or off)   bake
 //   deform (the viewer's --spec with its keys as set)
 //   undo   redo   reset   save PATH   screenshot PATH [panel]   quit
 
