@@ -1,13 +1,12 @@
 // Living tissue (soft/tissue.hpp): one frame (1/90 s of simulated time, the default substep of
 // 1/900 s: 10 substeps) on CesiumMan all simulated, and a wound's region on CesiumMan
-// subdivided to 1.2 M faces; a tear step while dragging plus the tissue's update; how a step's
-// cost grows with the region and with the mesh. Baseline in the same binary: Bullet 3.24's
+// subdivided to 1.2 M faces; how a step's cost grows with the region and with the mesh (a tear
+// step while dragging with the tissue's update: session_bench.cpp, BM_DragStepTissue*). Baseline in the same binary: Bullet 3.24's
 // btSoftBody on the same welded mesh with the same links and one iteration per substep.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <memory>
 #include <string>
 #include <utility>
@@ -61,11 +60,11 @@ const Subject& subject(int levels) {
 }
 
 /// A scalpel stroke of `steps` blade positions across the chest (the front, +z), moving up by
-/// 1 % of the size per step from `first`.
-std::vector<surgery::Scalpel> chest_stroke(const Subject& s, int first, int steps) {
+/// 1 % of the size per step.
+std::vector<surgery::Scalpel> chest_stroke(const Subject& s, int steps) {
   std::vector<surgery::Scalpel> out;
   const Eigen::Vector3d front(0, 0, 1), up = Eigen::Vector3d(-0.3, 1, 0).normalized();
-  for (int i = first; i < first + steps; ++i) {
+  for (int i = 0; i < steps; ++i) {
     const Eigen::Vector3d c = s.centre + Eigen::Vector3d(0, 0.1 * s.diagonal, 0) + 0.01 * s.diagonal * i * up;
     out.push_back({c + s.diagonal * front, c});
   }
@@ -104,46 +103,9 @@ void BM_TissueFrameWound(benchmark::State& state) {
   soft::TissueOptions options;
   options.region_radius = static_cast<double>(state.range(1)) / 100.0 * s.diagonal;
   soft::Tissue tissue(live, options);
-  const surgery::LiveTear t = surgery::tear(live, chest_stroke(s, 0, 3));
+  const surgery::LiveTear t = surgery::tear(live, chest_stroke(s, 3));
   tissue.follow(live, std::span(&t.change, 1));
   frames(state, s, live, tissue);
-}
-
-/// While a tear is dragged: per iteration one more step of the blade (a tear in place between
-/// its last two positions), the tissue following it, and a frame of the tissue, on CesiumMan
-/// subdivided `range(0)` times. Each iteration starts from the same state (copied untimed).
-void BM_TissueTearDrag(benchmark::State& state) {
-  const Subject& s = subject(static_cast<int>(state.range(0)));
-  surgery::LiveModel start = *s.live;
-  soft::Tissue started(start);
-  const surgery::LiveTear first = surgery::tear(start, chest_stroke(s, 0, 3));
-  started.follow(start, std::span(&first.change, 1));
-  for (int k = 0; k < 10; ++k) started.step(start, s.poses[0], kFrame);
-  const std::vector<surgery::Scalpel> next = chest_stroke(s, 2, 2);
-  surgery::LiveModel live = start;
-  soft::Tissue tissue = started;
-  double tear_ms = 0, follow_ms = 0, step_ms = 0;
-  for (auto _ : state) {
-    live = start;
-    tissue = started;
-    const auto begin = std::chrono::steady_clock::now();
-    const surgery::LiveTear t = surgery::tear(live, next);
-    const auto torn = std::chrono::steady_clock::now();
-    tissue.follow(live, std::span(&t.change, 1));
-    const auto followed = std::chrono::steady_clock::now();
-    tissue.step(live, s.poses[0], kFrame);
-    const auto end = std::chrono::steady_clock::now();
-    state.SetIterationTime(std::chrono::duration<double>(end - begin).count());
-    tear_ms += std::chrono::duration<double, std::milli>(torn - begin).count();
-    follow_ms += std::chrono::duration<double, std::milli>(followed - torn).count();
-    step_ms += std::chrono::duration<double, std::milli>(end - followed).count();
-  }
-  const auto n = static_cast<double>(state.iterations());
-  state.counters["tear_ms"] = tear_ms / n;
-  state.counters["follow_ms"] = follow_ms / n;
-  state.counters["step_ms"] = step_ms / n;
-  state.counters["particles"] = static_cast<double>(tissue.free_particles());
-  state.counters["faces"] = static_cast<double>(live.model().meshes[0].face_count());
 }
 
 #ifdef CGAMESH_BENCH_BULLET
@@ -228,6 +190,5 @@ BENCHMARK(BM_TissueFrameWound)
     ->Args({2, 5})
     ->Args({3, 5})
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_TissueTearDrag)->ArgName("subdivisions")->Arg(0)->Arg(4)->UseManualTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace

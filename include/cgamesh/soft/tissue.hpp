@@ -19,6 +19,7 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/mesh/row_array.hpp"
+#include "cgamesh/soft/chunked_array.hpp"
 #include "cgamesh/soft/tissue_options.hpp"
 #include "cgamesh/surgery/live_model.hpp"
 
@@ -97,7 +98,7 @@ class Tissue {
     int a, b;     ///< particles
     float scale;  ///< rest length: scale × the skinned distance
     float compliance;
-    double wa = 0, wb = 0, gain = 0;  ///< inverse masses and 1 / (wa + wb + compliance / substep²)
+    double wa = 0, wb = 0;  ///< inverse masses
   };
   struct VertexRef {
     int mesh, vertex;  ///< the particle's representative vertex (its weld class's)
@@ -140,16 +141,16 @@ class Tissue {
   std::vector<Ball> balls_;     ///< the region: faces in these
   std::vector<Ball> releases_;  ///< particles in these have no attachment
   // Per mesh, per vertex.
-  std::vector<std::vector<double>> mass_;
-  std::vector<std::vector<int>> particle_of_;  ///< −1: not in the region
-  std::vector<std::vector<Eigen::Vector3d>> vx_, vv_;  ///< last known position and velocity
+  std::vector<ChunkedArray<double>> mass_;
+  std::vector<ChunkedArray<int>> particle_of_;  ///< −1: not in the region
+  std::vector<ChunkedArray<Eigen::Vector3d>> vx_, vv_;  ///< last known position and velocity
   /// The save_state() that wrote vx_, vv_ (0: never): a vertex that left the region and comes
   /// back has no state (its old one is from another time).
-  std::vector<std::vector<int>> saved_;
+  std::vector<ChunkedArray<int>> saved_;
   int generation_ = 0;
   /// The factor every ball is shrunk by to keep the region within the budget (1: none).
   double scale_ = 1;
-  std::vector<std::vector<int>> face_mark_;  ///< per mesh, per face: the region query that saw it
+  std::vector<ChunkedArray<int>> face_mark_;  ///< per mesh, per face: the region query that saw it
   int mark_ = 0;
   // Per particle.
   std::vector<VertexRef> ref_;
@@ -158,8 +159,9 @@ class Tissue {
   std::vector<double> inverse_mass_;
   std::vector<char> free_, attached_;
   std::vector<Link> links_;          ///< colour by colour
-  std::vector<std::size_t> colour_begin_;  ///< first link of each colour, and the end
-  std::vector<double> link_gain_, link_scale_;  ///< per link, as in links_ (packets read them)
+  std::vector<std::size_t> colour_begin_;  ///< first link of each colour, and the end (#colours + 1)
+  /// Per link, as in links_ (packets read them): 1 / (wa + wb + compliance / substep²), scale.
+  std::vector<double> link_gain_, link_scale_;
   std::vector<double> correction_, length2_, rest2_;  ///< per link, a substep's Δλ/|d|, |d|², |t_a − t_b|²
   double carried_ = 0;  ///< simulated time owed from the last step (< substep)
   bool have_targets_ = false;
