@@ -426,6 +426,13 @@ TEST(CliSoft, CutAndDrillSettleTheirWoundsToo) {
       run_ok(dir, {"cut", model, "--plane", "0,1,0,0.9", "--soft", "--json", "-o", (dir / "c.glb").string()}));
   EXPECT_GT(cut["soft"]["wound_vertices"].get<int>(), 0);
   EXPECT_EQ(cgamesh::io::load_model(dir / "c.glb").clips.size(), 1u);
+  // The baked models are valid glTF (Khronos) and animate: they keep the clip.
+  ASSERT_TRUE(cgamesh_test::validator_available()) << "scripts/install-deps.sh installs the glTF validator";
+  for (const char* name : {"d.glb", "c.glb"}) {
+    std::string log;
+    EXPECT_EQ(cgamesh_test::validate_gltf(dir / name, log), 0) << name << "\n" << log;
+  }
+  EXPECT_EQ(cgamesh::io::load_model(dir / "d.glb").clips.size(), 1u);
   Failure f;
   const fs::path out = f.outputs / "c.glb";
   expect_failure(f, {"cut", model, "--plane", "0,1,0,0.9", "--soft", "--cap", "-o", out.string()}, 2, "--cap", out);
