@@ -51,6 +51,8 @@ Tissue::Tissue(const surgery::LiveModel& live, const TissueOptions& options) : o
     mass_.push_back(std::move(mass));
     particle_of_.emplace_back(static_cast<std::size_t>(m.vertex_count()), -1);
     face_mark_.emplace_back(static_cast<std::size_t>(m.face_count()), 0);
+    vertex_mark_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0);
+    vertex_reach_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0.0);
     vx_.emplace_back(static_cast<std::size_t>(m.vertex_count()), Eigen::Vector3d::Zero());
     vv_.emplace_back(static_cast<std::size_t>(m.vertex_count()), Eigen::Vector3d::Zero());
     saved_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0);
@@ -200,6 +202,16 @@ double Tissue::reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::V
   return best;
 }
 
+double Tissue::vertex_reach(const surgery::LiveModel& live, const std::vector<Eigen::Vector4d>& spheres,
+                            std::size_t mesh, int v) {
+  const auto k = static_cast<std::size_t>(v);
+  if (vertex_mark_[mesh][k] != reach_mark_) {
+    vertex_mark_[mesh][k] = reach_mark_;
+    vertex_reach_[mesh][k] = reach(spheres, row(live.placement().positions[mesh], v));
+  }
+  return vertex_reach_[mesh][k];
+}
+
 std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& live) {
   const anim::RiggedModel& model = live.model();
   const std::size_t budget = options_.max_particles > 0 ? 2 * static_cast<std::size_t>(options_.max_particles)
@@ -220,18 +232,20 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
   std::vector<std::vector<Eigen::Vector4d>> near(model.meshes.size());
   ++mark_;
+  reach_mark_ = mark_;
   const auto push = [&](std::size_t i, int f) {
     int& seen = face_mark_[i][static_cast<std::size_t>(f)];
     if (seen == mark_) return;
     seen = mark_;
     const mesh::Mesh& m = model.meshes[i];
-    const mesh::RowMatrixXf<3>& placed = live.placement().positions[i];
     double r = INFINITY;
-    for (int k = 0; k < 3; ++k) r = std::min(r, reach(near[i], row(placed, m.faces(f, k))));
+    for (int k = 0; k < 3; ++k) r = std::min(r, vertex_reach(live, near[i], i, m.faces(f, k)));
     if (r < 1) queue.push({r, static_cast<int>(i), f});
   };
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     face_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].face_count()), 0);
+    vertex_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0);
+    vertex_reach_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0.0);
     near[i] = spheres(balls_, static_cast<int>(i), live.placement());
     std::vector<int> seeds;
     for (const Ball& b : balls_) {
@@ -306,7 +320,7 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
         ref_.push_back({static_cast<int>(i), rep});
         x_.push_back(known >= 0 ? vx_[i][static_cast<std::size_t>(known)] : at);
         v_.push_back(known >= 0 ? vv_[i][static_cast<std::size_t>(known)] : Eigen::Vector3d::Zero());
-        free_.push_back(reach(region_spheres, at) < scale_ ? 1 : 0);
+        free_.push_back(vertex_reach(live, region_spheres, i, v) < scale_ ? 1 : 0);
         attached_.push_back(reach(release_spheres, at) < scale_ ? 0 : 1);
         particle_mass.push_back(0.0);
       }
