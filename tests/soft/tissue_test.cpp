@@ -143,6 +143,40 @@ double settled_width(TissueOptions options) {
   return n > 0 ? sum / n : 0;
 }
 
+// Issue #34, locality: outside the region the tissue is the skinned surface, bit for bit, while
+// the wound's region moves and the clip plays.
+TEST(Tissue, OutsideTheRegionPositionsAreSkinningBitForBit) {
+  const anim::RiggedModel model = cesium();
+  surgery::LiveModel live = live_at_rest(model);
+  Tissue tissue(live);
+  const surgery::LiveTear tear = surgery::tear(
+      live, std::vector<surgery::Scalpel>{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}}, {{-0.03, 1.0, 2}, {-0.03, 1.0, 0.06}}});
+  tissue.follow(live, std::span(&tear.change, 1));
+  ASSERT_GT(tissue.free_particles(), 0u);
+  const mesh::RowMatrixXf<3>& placed = live.placement().positions[0];
+  const Eigen::Index first = tear.change.first_new_vertex;
+  // Farther than twice the default region (10 % of the diagonal, about 1.9) from every wound vertex.
+  std::vector<Eigen::Index> far;
+  for (Eigen::Index v = 0; v < first; ++v) {
+    float nearest = INFINITY;
+    for (Eigen::Index w = first; w < placed.rows(); ++w) nearest = std::min(nearest, (placed.row(v) - placed.row(w)).norm());
+    if (nearest > 0.4f) far.push_back(v);
+  }
+  ASSERT_GT(far.size(), 1000u);
+  bool moved_near = false;
+  for (double t = 0; t <= model.clips[0].duration; t += 0.1) {
+    const anim::Pose pose = anim::sample(live.model().skeleton, live.model().clips[0], t, anim::BlendMode::format);
+    tissue.step(live, pose, 0.1);
+    const auto ours = tissue.positions(live, pose);
+    const auto skinned = surgery::place(live.model(), pose).positions;
+    for (const Eigen::Index v : far) ASSERT_EQ(ours[0].row(v), skinned[0].row(v)) << "vertex " << v << " at t = " << t;
+    moved_near |= (ours[0].bottomRows(placed.rows() - first) - skinned[0].bottomRows(placed.rows() - first))
+                      .cwiseAbs()
+                      .maxCoeff() > 1e-4f;
+  }
+  EXPECT_TRUE(moved_near) << "the wound itself is simulated";
+}
+
 TEST(Tissue, ATearInATenseSheetOpensWithTheTension) {
   TissueOptions o;
   o.gravity.setZero();
