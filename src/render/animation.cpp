@@ -1,7 +1,6 @@
 #include "cgamesh/render/animation.hpp"
 
 #include <cmath>
-#include <exception>
 #include <memory>
 #include <string>
 
@@ -10,6 +9,7 @@
 
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
+#include "cgamesh/io/text_values.hpp"
 
 namespace cgamesh::render {
 namespace {
@@ -45,15 +45,12 @@ FrameTimes FrameTimes::parse(const std::string& text, const std::string& option)
   if (b == std::string::npos || text.find(':', b + 1) != std::string::npos)
     throw bad("expected START:END:N (seconds, seconds, a frame count)");
   const auto real = [&](const std::string& part, const char* what) {
-    std::size_t used = 0;
-    double v = 0;
+    double v = -1;
     try {
-      v = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
+      v = io::parse_numbers(part, 1, what)[0];
+    } catch (const InvalidInputError&) {  // said below, naming the part of `option`
     }
-    if (used == 0 || used != part.size() || !std::isfinite(v) || v < 0)
-      throw bad(std::string(what) + " must be a finite number of seconds >= 0");
+    if (!(v >= 0)) throw bad(std::string(what) + " must be a finite number of seconds >= 0");
     return v;
   };
   FrameTimes t;

@@ -196,13 +196,18 @@ TEST(Tissue, ATearInATenseSheetOpensWithTheTension) {
   EXPECT_LT(settled_width(o), 0.5 * open);
 }
 
-TEST(Tissue, AReleasedPieceFallsAsHalfGTSquared) {
-  surgery::LiveModel live = live_at_rest(sheet(4));
+/// Tissue that holds on to nothing (attachments as loose as can be), undamped, not tense.
+TissueOptions loose() {
   TissueOptions o;
   o.attachment_compliance = 1e12;
   o.damping = 0;
   o.pretension = 0;
-  Tissue tissue(live, o);
+  return o;
+}
+
+TEST(Tissue, AReleasedPieceFallsAsHalfGTSquared) {
+  surgery::LiveModel live = live_at_rest(sheet(4));
+  Tissue tissue(live, loose());
   tissue.select(live, 0, Eigen::Vector3d(2, 2, 0), 10);
   ASSERT_EQ(tissue.free_particles(), 25u);
   const anim::Pose rest = anim::rest_pose(live.model().skeleton);
@@ -217,10 +222,7 @@ TEST(Tissue, AReleasedPieceFallsAsHalfGTSquared) {
 // the links' corrections are internal, so the momentum stays.
 TEST(Tissue, WithGravityOffAFreePieceKeepsItsMomentum) {
   surgery::LiveModel live = live_at_rest(sheet(8));
-  TissueOptions o;
-  o.attachment_compliance = 1e12;
-  o.damping = 0;
-  o.pretension = 0;
+  TissueOptions o = loose();
   Tissue tissue(live, o);
   tissue.select(live, 0, Eigen::Vector3d(4, 4, 0), 100);
   const anim::Pose rest = anim::rest_pose(live.model().skeleton);
