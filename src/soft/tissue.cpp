@@ -417,7 +417,6 @@ void Tissue::order_links() {
   }
   correction_.assign(links_.size(), 0.0);
   length2_.assign(links_.size(), 0.0);
-  rest2_.assign(links_.size(), 0.0);
 }
 
 // ---- Simulation ----
@@ -433,7 +432,7 @@ void Tissue::targets_in(const surgery::LiveModel& live, const anim::Pose& pose,
   }
 }
 
-void Tissue::substep(const std::vector<Eigen::Vector3d>& t, double h) {
+void Tissue::substep(const std::vector<Eigen::Vector3d>& t, double alpha, double h) {
   const std::size_t n = x_.size();
   std::vector<Eigen::Vector3d>& before = scratch_;
   before = x_;
@@ -453,23 +452,25 @@ void Tissue::substep(const std::vector<Eigen::Vector3d>& t, double h) {
     x_[p] -= d * (inverse_mass_[p] / (inverse_mass_[p] + attach));
   }
   Eigen::Vector3d* const x = x_.data();
-  const Eigen::Vector3d* const target = t.data();
   const Link* const links = links_.data();
   double* const s = correction_.data();
   double* const len2 = length2_.data();
-  double* const rest2 = rest2_.data();
   for (std::size_t c = 0; c + 1 < colour_begin_.size(); ++c) {
     const std::size_t begin = colour_begin_[c], end = colour_begin_[c + 1];
     for (std::size_t k = begin; k < end; ++k) {
       const Link& l = links[k];
       len2[k] = (x[l.a] - x[l.b]).squaredNorm();
-      rest2[k] = (target[l.a] - target[l.b]).squaredNorm();
     }
     // Δλ = −C / (w_a + w_b + α/h²) along d/|d|, with C = |d| − scale·|t_a − t_b|; s = Δλ/|d|
     // (the step is s·d) = gain·(scale·√(rest²/|d|²) − 1): one division and one root per link,
-    // in packets. A zero |d| (d = 0, no step) is floored so that s stays finite.
+    // in packets. t_a − t_b of the targets interpolated at `alpha` is d0 + alpha·Δd (step()).
+    // A zero |d| (d = 0, no step) is floored so that s stays finite.
     const auto n = static_cast<Eigen::Index>(end - begin);
-    const Eigen::Map<const Eigen::ArrayXd> l2(len2 + begin, n), r2(rest2 + begin, n);
+    const auto b = static_cast<Eigen::Index>(begin);
+    const Eigen::Map<const Eigen::ArrayXd> l2(len2 + begin, n);
+    const auto r2 = (rest_.col(0).segment(b, n) + alpha * rest_.col(3).segment(b, n)).square() +
+                    (rest_.col(1).segment(b, n) + alpha * rest_.col(4).segment(b, n)).square() +
+                    (rest_.col(2).segment(b, n) + alpha * rest_.col(5).segment(b, n)).square();
     Eigen::Map<Eigen::ArrayXd>(s + begin, n) =
         Eigen::Map<const Eigen::ArrayXd>(link_gain_.data() + begin, n) *
         (Eigen::Map<const Eigen::ArrayXd>(link_scale_.data() + begin, n) * (r2 / l2.max(1e-300)).sqrt() - 1.0);
@@ -494,10 +495,18 @@ void Tissue::step(const surgery::LiveModel& live, const anim::Pose& pose, double
   const auto steps = static_cast<long>(std::floor((dt + carried_) / h));
   const std::vector<Eigen::Vector3d> x0 = x_, v0 = v_;
   std::vector<Eigen::Vector3d> t(to.size());
+  // Each link's t_a − t_b at the step's start (d0) and its change over the step (Δd), as
+  // columns: the substeps read them in order instead of gathering targets.
+  rest_.resize(static_cast<Eigen::Index>(links_.size()), 6);
+  for (std::size_t k = 0; k < links_.size(); ++k) {
+    const auto a = static_cast<std::size_t>(links_[k].a), b = static_cast<std::size_t>(links_[k].b);
+    const Eigen::Vector3d d0 = from[a] - from[b], d1 = to[a] - to[b];
+    rest_.row(static_cast<Eigen::Index>(k)) << d0.x(), d0.y(), d0.z(), d1.x() - d0.x(), d1.y() - d0.y(), d1.z() - d0.z();
+  }
   for (long s = 1; s <= steps; ++s) {
     const double a = static_cast<double>(s) / static_cast<double>(steps);
     for (std::size_t p = 0; p < t.size(); ++p) t[p] = (1 - a) * from[p] + a * to[p];
-    substep(t, h);
+    substep(t, a, h);
   }
   for (std::size_t p = 0; p < x_.size(); ++p)
     if (!x_[p].allFinite() || (x_[p] - to[p]).norm() > 10 * diagonal_) {

@@ -136,8 +136,8 @@ class Tissue {
   void order_links();
   /// Skinned target of every particle in `pose` (palettes made once).
   void targets_in(const surgery::LiveModel& live, const anim::Pose& pose, std::vector<Eigen::Vector3d>& out) const;
-  /// One XPBD substep of length h towards targets `t`.
-  void substep(const std::vector<Eigen::Vector3d>& t, double h);
+  /// One XPBD substep of length h towards targets `t`, `alpha` of the way through the step.
+  void substep(const std::vector<Eigen::Vector3d>& t, double alpha, double h);
 
   TissueOptions options_;
   double radius_ = 0, margin_ = 0, diagonal_ = 0;
@@ -167,7 +167,8 @@ class Tissue {
   std::vector<std::size_t> colour_begin_;  ///< first link of each colour, and the end (#colours + 1)
   /// Per link, as in links_ (packets read them): 1 / (wa + wb + compliance / substep²), scale.
   std::vector<double> link_gain_, link_scale_;
-  std::vector<double> correction_, length2_, rest2_;  ///< per link, a substep's Δλ/|d|, |d|², |t_a − t_b|²
+  std::vector<double> correction_, length2_;  ///< per link, a substep's Δλ/|d| and |d|²
+  Eigen::ArrayXXd rest_;  ///< per link, t_a − t_b at the step's start and its change over the step (#links×6)
   double carried_ = 0;  ///< simulated time owed from the last step (< substep)
   bool have_targets_ = false;
 };
