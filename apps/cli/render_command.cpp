@@ -83,7 +83,7 @@ struct RenderCommand {
     const int frames = range ? range->frames : 1;
     const double frame_bytes = 4.0 * options.width * columns * options.height * rows;
     if (frame_bytes * frames > kMaxAnimationBytes)
-      throw InvalidInputError("--time " + time_text() + " at --size " + size + " makes " + std::to_string(frames) +
+      throw InvalidInputError("--time " + pose.time_text + " at --size " + size + " makes " + std::to_string(frames) +
                               " pictures of " + number(frame_bytes / 1048576.0) + " MiB: at most " +
                               number(kMaxAnimationBytes / 1048576.0) + " MiB in all (fewer frames or a smaller --size)");
 
@@ -181,9 +181,6 @@ struct RenderCommand {
               << ", " << summary["width"] << "x" << summary["height"] << " pixels\n  -> " << written.front()
               << (written.size() > 1 ? " ... " + written.back() : std::string()) << "\n";
   }
-
-  /// --time as given ("" without it).
-  [[nodiscard]] std::string time_text() const { return pose.time_text; }
 
   /// The frames of --time START:END:N; none for one time (then set in pose.time).
   [[nodiscard]] std::optional<render::FrameTimes> frame_times() const {

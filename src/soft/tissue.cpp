@@ -202,12 +202,11 @@ double Tissue::reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::V
   return best;
 }
 
-double Tissue::vertex_reach(const surgery::LiveModel& live, const std::vector<Eigen::Vector4d>& spheres,
-                            std::size_t mesh, int v) {
+double Tissue::vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v) {
   const auto k = static_cast<std::size_t>(v);
   if (vertex_mark_[mesh][k] != reach_mark_) {
     vertex_mark_[mesh][k] = reach_mark_;
-    vertex_reach_[mesh][k] = reach(spheres, row(live.placement().positions[mesh], v));
+    vertex_reach_[mesh][k] = reach(region_spheres_[mesh], row(live.placement().positions[mesh], v));
   }
   return vertex_reach_[mesh][k];
 }
@@ -230,7 +229,7 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
     }
   };
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
-  std::vector<std::vector<Eigen::Vector4d>> near(model.meshes.size());
+  region_spheres_.resize(model.meshes.size());
   ++mark_;
   reach_mark_ = mark_;
   const auto push = [&](std::size_t i, int f) {
@@ -239,14 +238,14 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
     seen = mark_;
     const mesh::Mesh& m = model.meshes[i];
     double r = INFINITY;
-    for (int k = 0; k < 3; ++k) r = std::min(r, vertex_reach(live, near[i], i, m.faces(f, k)));
+    for (int k = 0; k < 3; ++k) r = std::min(r, vertex_reach(live, i, m.faces(f, k)));
     if (r < 1) queue.push({r, static_cast<int>(i), f});
   };
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     face_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].face_count()), 0);
     vertex_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0);
     vertex_reach_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0.0);
-    near[i] = spheres(balls_, static_cast<int>(i), live.placement());
+    region_spheres_[i] = spheres(balls_, static_cast<int>(i), live.placement());
     std::vector<int> seeds;
     for (const Ball& b : balls_) {
       if (b.mesh != static_cast<int>(i)) continue;
@@ -303,7 +302,6 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
     const mesh::RowMatrixXf<3>& placed = live.placement().positions[i];
     const std::vector<int>& faces = region[i];
     const ChunkedArray<int>& in_region = face_mark_[i];
-    const std::vector<Eigen::Vector4d> region_spheres = spheres(balls_, static_cast<int>(i), live.placement());
     const std::vector<Eigen::Vector4d> release_spheres = spheres(releases_, static_cast<int>(i), live.placement());
     // Particles: one per welded class of the faces' corners.
     std::unordered_map<int, int> class_particle;
@@ -320,7 +318,7 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
         ref_.push_back({static_cast<int>(i), rep});
         x_.push_back(known >= 0 ? vx_[i][static_cast<std::size_t>(known)] : at);
         v_.push_back(known >= 0 ? vv_[i][static_cast<std::size_t>(known)] : Eigen::Vector3d::Zero());
-        free_.push_back(vertex_reach(live, region_spheres, i, v) < scale_ ? 1 : 0);
+        free_.push_back(vertex_reach(live, i, v) < scale_ ? 1 : 0);
         attached_.push_back(reach(release_spheres, at) < scale_ ? 0 : 1);
         particle_mass.push_back(0.0);
       }

@@ -40,6 +40,12 @@ surgery::LiveModel live_at_rest(anim::RiggedModel model) {
   return {std::move(model), std::move(p)};
 }
 
+/// A tear of two scalpel steps across CesiumMan's chest, in place.
+surgery::LiveTear chest_tear(surgery::LiveModel& live) {
+  return surgery::tear(
+      live, std::vector<surgery::Scalpel>{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}}, {{-0.03, 1.0, 2}, {-0.03, 1.0, 0.06}}});
+}
+
 double largest_difference(const std::vector<mesh::RowMatrixXf<3>>& a, const std::vector<mesh::RowMatrixXf<3>>& b) {
   double worst = 0;
   for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double((a[i] - b[i]).cwiseAbs().maxCoeff()));
@@ -102,8 +108,7 @@ TEST(Tissue, MassIsConservedThroughCutsTearsAndDrills) {
   Tissue tissue(live);
   const double mass = tissue.total_mass();
   EXPECT_GT(mass, 0);
-  const surgery::LiveTear tear = surgery::tear(
-      live, std::vector<surgery::Scalpel>{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}}, {{-0.03, 1.0, 2}, {-0.03, 1.0, 0.06}}});
+  const surgery::LiveTear tear = chest_tear(live);
   tissue.follow(live, std::span(&tear.change, 1));
   EXPECT_NEAR(tissue.total_mass(), mass, 1e-9 * mass);
   const surgery::LiveDrill drill = surgery::drill(live, {0.0, 1.3, -0.5}, {0.0, 1.3, 0.5}, 0.04);
@@ -149,8 +154,7 @@ TEST(Tissue, OutsideTheRegionPositionsAreSkinningBitForBit) {
   const anim::RiggedModel model = cesium();
   surgery::LiveModel live = live_at_rest(model);
   Tissue tissue(live);
-  const surgery::LiveTear tear = surgery::tear(
-      live, std::vector<surgery::Scalpel>{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}}, {{-0.03, 1.0, 2}, {-0.03, 1.0, 0.06}}});
+  const surgery::LiveTear tear = chest_tear(live);
   tissue.follow(live, std::span(&tear.change, 1));
   ASSERT_GT(tissue.free_particles(), 0u);
   const mesh::RowMatrixXf<3>& placed = live.placement().positions[0];
@@ -271,8 +275,7 @@ TEST(Tissue, TheBakedModelIsTheSimulatedSurface) {
   const anim::RiggedModel model = cesium();
   surgery::LiveModel live = live_at_rest(model);
   Tissue tissue(live);
-  const surgery::LiveTear tear = surgery::tear(
-      live, std::vector<surgery::Scalpel>{{{0.01, 0.90, 2}, {0.01, 0.90, 0.06}}, {{-0.03, 1.0, 2}, {-0.03, 1.0, 0.06}}});
+  const surgery::LiveTear tear = chest_tear(live);
   tissue.follow(live, std::span(&tear.change, 1));
   const anim::Pose pose = anim::rest_pose(model.skeleton);
   (void)tissue.settle(live, pose, 1.0);

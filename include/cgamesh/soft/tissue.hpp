@@ -123,9 +123,9 @@ class Tissue {
                                                             const surgery::Placement& placed);
   /// The least over `spheres` of |p − centre| / radius.
   [[nodiscard]] static double reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::Vector3d& p);
-  /// reach(spheres, placed vertex v of `mesh`), computed once per region query (reach_mark_).
-  [[nodiscard]] double vertex_reach(const surgery::LiveModel& live, const std::vector<Eigen::Vector4d>& spheres,
-                                    std::size_t mesh, int v);
+  /// reach(region_spheres_[mesh], placed vertex v of `mesh`), computed once per region query
+  /// (reach_mark_).
+  [[nodiscard]] double vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v);
   /// Per mesh, the sorted faces of the region within options().max_particles; sets scale_ and
   /// marks them in face_mark_ with mark_.
   [[nodiscard]] std::vector<std::vector<int>> region_faces(const surgery::LiveModel& live);
@@ -156,6 +156,7 @@ class Tissue {
   std::vector<ChunkedArray<int>> face_mark_;  ///< per mesh, per face: the region query that saw it
   std::vector<ChunkedArray<int>> vertex_mark_;  ///< per mesh, per vertex: the query of its vertex_reach_
   std::vector<ChunkedArray<double>> vertex_reach_;
+  std::vector<std::vector<Eigen::Vector4d>> region_spheres_;  ///< per mesh, the region's balls of the last query
   int mark_ = 0, reach_mark_ = 0;
   // Per particle.
   std::vector<VertexRef> ref_;
