@@ -9,7 +9,6 @@
 #include <limits>
 #include <queue>
 #include <string>
-#include <unordered_map>
 #include <utility>
 
 #include "cgamesh/anim/morph.hpp"
@@ -31,6 +30,27 @@ Eigen::Vector3d skinned(const mesh::Mesh& m, const anim::SkinningPalette& palett
   return a.leftCols<3>() * x + a.col(3);
 }
 
+/// Removes repeated keys (lesser particle << 32 | greater, both < n) from `keys`, which end up
+/// ordered by their lesser particle, in linear time (a counting sort; a sort was a tenth of a
+/// rebuild).
+void unique_pairs(std::vector<std::uint64_t>& keys, std::size_t n) {
+  std::vector<std::size_t> begin(n + 1, 0);
+  for (const std::uint64_t k : keys) ++begin[(k >> 32) + 1];
+  for (std::size_t a = 0; a < n; ++a) begin[a + 1] += begin[a];
+  std::vector<std::uint64_t> sorted(keys.size());
+  std::vector<std::size_t> next(begin.begin(), begin.end() - 1);
+  for (const std::uint64_t k : keys) sorted[next[k >> 32]++] = k;
+  // Within one lesser particle, a greater one seen before (stamped with lesser + 1) repeats.
+  std::vector<std::size_t> seen(n, 0);
+  keys.clear();
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t j = begin[a]; j < begin[a + 1]; ++j) {
+      std::size_t& s = seen[sorted[j] & 0xffffffffu];
+      if (s != a + 1) keys.push_back(sorted[j]);
+      s = a + 1;
+    }
+}
+
 }  // namespace
 
 Tissue::Tissue(const surgery::LiveModel& live, const TissueOptions& options) : options_(options) {
@@ -50,9 +70,10 @@ Tissue::Tissue(const surgery::LiveModel& live, const TissueOptions& options) : o
     for (Eigen::Index v = 0; v < m.vertex_count(); ++v) box.extend(row(placed.positions[i], static_cast<int>(v)));
     mass_.push_back(std::move(mass));
     particle_of_.emplace_back(static_cast<std::size_t>(m.vertex_count()), -1);
+    class_of_.emplace_back(static_cast<std::size_t>(m.vertex_count()), std::array<int, 2>{0, -1});
     face_mark_.emplace_back(static_cast<std::size_t>(m.face_count()), 0);
     vertex_mark_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0);
-    vertex_reach_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0.0);
+    vertex_reach_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0.0f);
     vx_.emplace_back(static_cast<std::size_t>(m.vertex_count()), Eigen::Vector3d::Zero());
     vv_.emplace_back(static_cast<std::size_t>(m.vertex_count()), Eigen::Vector3d::Zero());
     saved_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0);
@@ -202,11 +223,11 @@ double Tissue::reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::V
   return best;
 }
 
-double Tissue::vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v) {
+float Tissue::vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v) {
   const auto k = static_cast<std::size_t>(v);
   if (vertex_mark_[mesh][k] != reach_mark_) {
     vertex_mark_[mesh][k] = reach_mark_;
-    vertex_reach_[mesh][k] = reach(region_spheres_[mesh], row(live.placement().positions[mesh], v));
+    vertex_reach_[mesh][k] = static_cast<float>(reach(region_spheres_[mesh], row(live.placement().positions[mesh], v)));
   }
   return vertex_reach_[mesh][k];
 }
@@ -221,14 +242,12 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
   // (reach < 1) then has all its faces and links, and the other corners pin the border. Past
   // the budget it stops, as if every ball were shrunk by one factor (scale_). It costs what the
   // region holds, whatever the size of the mesh or of the balls.
-  struct Candidate {
-    double reach;
-    int mesh, face;
-    bool operator>(const Candidate& o) const noexcept {
-      return reach != o.reach ? reach > o.reach : mesh != o.mesh ? mesh > o.mesh : face > o.face;
-    }
-  };
-  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
+  // A candidate is one 64-bit key: its reach's bits (a float ≥ 0 orders as its bits do) over
+  // its index in `faces` (ties go to the first pushed, as the walk is deterministic).
+  std::vector<std::pair<int, int>>& faces = candidates_;
+  faces.clear();
+  std::vector<std::uint64_t>& heap = heap_;
+  heap.clear();
   region_spheres_.resize(model.meshes.size());
   ++mark_;
   reach_mark_ = mark_;
@@ -237,14 +256,18 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
     if (seen == mark_) return;
     seen = mark_;
     const mesh::Mesh& m = model.meshes[i];
-    double r = INFINITY;
+    float r = INFINITY;
     for (int k = 0; k < 3; ++k) r = std::min(r, vertex_reach(live, i, m.faces(f, k)));
-    if (r < 1) queue.push({r, static_cast<int>(i), f});
+    if (r < 1) {
+      heap.push_back(std::uint64_t{std::bit_cast<std::uint32_t>(r)} << 32 | faces.size());
+      std::push_heap(heap.begin(), heap.end(), std::greater<>());
+      faces.emplace_back(static_cast<int>(i), f);
+    }
   };
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     face_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].face_count()), 0);
     vertex_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0);
-    vertex_reach_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0.0);
+    vertex_reach_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0.0f);
     region_spheres_[i] = spheres(balls_, static_cast<int>(i), live.placement());
     std::vector<int> seeds;
     for (const Ball& b : balls_) {
@@ -261,25 +284,25 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
   std::vector<std::vector<int>> out(model.meshes.size());
   std::size_t taken = 0;
   scale_ = 1;
-  while (!queue.empty()) {
-    const Candidate c = queue.top();
+  while (!heap.empty()) {
+    const std::uint64_t top = heap.front();
     if (taken == budget) {
-      scale_ = c.reach;
+      scale_ = std::bit_cast<float>(static_cast<std::uint32_t>(top >> 32));
       break;
     }
-    queue.pop();
+    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+    heap.pop_back();
     ++taken;
-    const auto i = static_cast<std::size_t>(c.mesh);
-    out[i].push_back(c.face);
-    for (const int g : live.index().meshes[i].neighbor[static_cast<std::size_t>(c.face)])
+    const auto [mesh, face] = faces[static_cast<std::size_t>(top & 0xffffffffu)];
+    const auto i = static_cast<std::size_t>(mesh);
+    out[i].push_back(face);
+    for (const int g : live.index().meshes[i].neighbor[static_cast<std::size_t>(face)])
       if (g >= 0) push(i, g);
   }
   // From here, face_mark_ == mark_ means: in the region.
   ++mark_;
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    std::sort(out[i].begin(), out[i].end());
+  for (std::size_t i = 0; i < out.size(); ++i)
     for (const int f : out[i]) face_mark_[i][static_cast<std::size_t>(f)] = mark_;
-  }
   return out;
 }
 
@@ -294,7 +317,11 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
   links_.clear();
   have_targets_ = false;
   std::vector<double> particle_mass;
-  std::vector<std::pair<int, int>> edges, loose, bends;
+  // A link's particles as one sortable key: the lesser over the greater.
+  std::vector<std::uint64_t> edges, loose, bends;
+  const auto key = [](int a, int b) {
+    return std::uint64_t{static_cast<std::uint32_t>(std::min(a, b))} << 32 | static_cast<std::uint32_t>(std::max(a, b));
+  };
   const std::vector<std::vector<int>> region = region_faces(live);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
@@ -304,13 +331,14 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
     const ChunkedArray<int>& in_region = face_mark_[i];
     const std::vector<Eigen::Vector4d> release_spheres = spheres(releases_, static_cast<int>(i), live.placement());
     // Particles: one per welded class of the faces' corners.
-    std::unordered_map<int, int> class_particle;
+    class_of_[i].resize(static_cast<std::size_t>(m.vertex_count()), {0, -1});
     const auto particle = [&](int v) {
       int& pv = particle_of_[i][static_cast<std::size_t>(v)];
       if (pv >= 0) return pv;
       const int rep = index.weld[static_cast<std::size_t>(v)];
-      const auto [it, fresh] = class_particle.try_emplace(rep, static_cast<int>(x_.size()));
-      if (fresh) {
+      std::array<int, 2>& cls = class_of_[i][static_cast<std::size_t>(rep)];
+      if (cls[0] != mark_) {
+        cls = {mark_, static_cast<int>(x_.size())};
         const Eigen::Vector3d at = row(placed, rep);
         const int known = saved_[i][static_cast<std::size_t>(rep)] == generation_ ? rep
                           : saved_[i][static_cast<std::size_t>(v)] == generation_  ? v
@@ -322,7 +350,7 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
         attached_.push_back(reach(release_spheres, at) < scale_ ? 0 : 1);
         particle_mass.push_back(0.0);
       }
-      pv = it->second;
+      pv = cls[1];
       members_.push_back({static_cast<int>(i), v, pv});
       particle_mass[static_cast<std::size_t>(pv)] += mass_[i][static_cast<std::size_t>(v)];
       return pv;
@@ -336,13 +364,13 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
         // (a border, a non-manifold edge) may come from several faces and is deduplicated.
         const int g = index.neighbor[static_cast<std::size_t>(f)][static_cast<std::size_t>(k)];
         const bool twin_in_region = g >= 0 && in_region[static_cast<std::size_t>(g)] == mark_;
-        if (a != b && (g < 0 || !twin_in_region || g > f)) (g < 0 ? loose : edges).emplace_back(std::min(a, b), std::max(a, b));
+        if (a != b && (g < 0 || !twin_in_region || g > f)) (g < 0 ? loose : edges).push_back(key(a, b));
         // Bending across edge k, once per pair of region faces.
         if (g > f && twin_in_region) {
           const int kg = index.edge_across(f, k);
           if (kg < 0) continue;
           const int a2 = corner[static_cast<std::size_t>((k + 2) % 3)], b2 = particle(m.faces(g, (kg + 2) % 3));
-          if (a2 != b2) bends.emplace_back(std::min(a2, b2), std::max(a2, b2));
+          if (a2 != b2) bends.push_back(key(a2, b2));
         }
       }
     }
@@ -353,17 +381,18 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
   loose.erase(std::unique(loose.begin(), loose.end()), loose.end());
   edges.insert(edges.end(), loose.begin(), loose.end());
   // Two pairs of faces may share their opposite corners (about 2 % of CesiumMan's): one link.
-  std::sort(bends.begin(), bends.end());
-  bends.erase(std::unique(bends.begin(), bends.end()), bends.end());
-  const auto add = [&](const std::vector<std::pair<int, int>>& pairs, float scale, float compliance) {
-    for (const auto& [a, b] : pairs)
+  unique_pairs(bends, x_.size());
+  const auto add = [&](const std::vector<std::uint64_t>& pairs, float scale, float compliance) {
+    for (const std::uint64_t k : pairs) {
+      const auto a = static_cast<int>(k >> 32), b = static_cast<int>(k & 0xffffffffu);
       if (inverse_mass_[static_cast<std::size_t>(a)] + inverse_mass_[static_cast<std::size_t>(b)] > 0)
         links_.push_back({a, b, scale, compliance});
+    }
   };
   // A piece the wound cut loose that no held particle holds through its links would fall away
   // for ever: its particles stay attached (it hangs on as surgery left it).
   mesh::UnionFind pieces(x_.size());
-  for (const auto& [a, b] : edges) pieces.unite(a, b);
+  for (const std::uint64_t k : edges) pieces.unite(static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu));
   std::vector<char> held(x_.size(), 0);
   for (std::size_t p = 0; p < x_.size(); ++p)
     if (free_[p] == 0 || attached_[p] != 0) held[static_cast<std::size_t>(pieces.find(static_cast<int>(p)))] = 1;

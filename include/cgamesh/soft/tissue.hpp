@@ -10,8 +10,11 @@
 // fights the simulation. Only a region around the wounds is simulated: elsewhere the tissue is
 // the skinned surface, and a step costs what the region holds.
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -125,8 +128,8 @@ class Tissue {
   [[nodiscard]] static double reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::Vector3d& p);
   /// reach(region_spheres_[mesh], placed vertex v of `mesh`), computed once per region query
   /// (reach_mark_).
-  [[nodiscard]] double vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v);
-  /// Per mesh, the sorted faces of the region within options().max_particles; sets scale_ and
+  [[nodiscard]] float vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v);
+  /// Per mesh, the faces of the region (nearest first) within options().max_particles; sets scale_ and
   /// marks them in face_mark_ with mark_.
   [[nodiscard]] std::vector<std::vector<int>> region_faces(const surgery::LiveModel& live);
   /// Particles and links of the region (the faces in its balls), from the per-vertex state.
@@ -155,9 +158,17 @@ class Tissue {
   double scale_ = 1;
   std::vector<ChunkedArray<int>> face_mark_;  ///< per mesh, per face: the region query that saw it
   std::vector<ChunkedArray<int>> vertex_mark_;  ///< per mesh, per vertex: the query of its vertex_reach_
-  std::vector<ChunkedArray<double>> vertex_reach_;
+  /// In single precision, as the region's faces are ordered by it (region_faces()).
+  std::vector<ChunkedArray<float>> vertex_reach_;
+  /// Per mesh, per weld class representative: the rebuild (mark_) that made its particle, and
+  /// the particle.
+  std::vector<ChunkedArray<std::array<int, 2>>> class_of_;
   std::vector<std::vector<Eigen::Vector4d>> region_spheres_;  ///< per mesh, the region's balls of the last query
   int mark_ = 0, reach_mark_ = 0;
+  // Scratch of region_faces(), kept for their capacity: candidate faces (mesh, face) and the
+  // heap of their keys.
+  std::vector<std::pair<int, int>> candidates_;
+  std::vector<std::uint64_t> heap_;
   // Per particle.
   std::vector<VertexRef> ref_;
   std::vector<Member> members_;
