@@ -16,6 +16,7 @@ packages=(
   libcgal-dev
   libepoxy-dev libegl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev libstb-dev libjpeg62-turbo-dev libwebp-dev
   xvfb xauth
+  mono-mcs mono-runtime
   python3-dev python3-venv python3-pip python3-setuptools python3-wheel pybind11-dev python3-numpy python3-pytest
 )
 

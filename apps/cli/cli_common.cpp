@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cgamesh/anim/pose_choice.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/file_extension.hpp"
 #include "cgamesh/io/model_loader.hpp"
@@ -88,43 +89,33 @@ void PoseChoice::add_to(CLI::App& sub) {
 }
 
 PoseChoice::Chosen PoseChoice::choose(const anim::RiggedModel& model) const {
-  const bool timed = time_option != nullptr && time_option->count() > 0;
-  if (timed && (!std::isfinite(time) || time < 0)) throw InvalidInputError("--time must be a finite number >= 0");
-  Chosen out;
-  int clip = -1;
-  if (!anim.empty()) {
-    clip = clip_index(model, anim);
-  } else if (timed) {
-    if (model.clips.empty())
-      out.warnings.push_back("--time " + number(time) + ": the model has no animation; the bind pose is used");
-    else
-      clip = 0;
+  anim::PoseRequest request;
+  request.blend = blend;
+  if (!anim.empty()) request.clip = clip_index(model, anim);
+  if (time_option != nullptr && time_option->count() > 0) {
+    // choose_pose() refuses it too, but the user typed --time.
+    if (!std::isfinite(time) || time < 0) throw InvalidInputError("--time must be a finite number >= 0");
+    request.time = time;
   }
-  if (clip < 0) {
-    out.pose = anim::rest_pose(model.skeleton);
+  const double reach = sets.empty() ? INFINITY : max_translation(model);
+  for (const std::string& s : sets) request.edits.push_back(parse_edit(model.skeleton, s, reach));
+  for (const std::string& m : morphs) request.morphs.push_back(io::parse_morph_setting(m));
+  anim::ChosenPose chosen = anim::choose_pose(model, request);
+  Chosen out;
+  out.pose = std::move(chosen.pose);
+  out.warnings = std::move(chosen.warnings);
+  if (chosen.clip < 0) {
     out.report = {{"kind", "bind"}};
     out.text = "bind pose";
   } else {
-    const anim::Clip& c = model.clips[static_cast<std::size_t>(clip)];
-    if (time > c.duration)
-      out.warnings.push_back("--time " + number(time) + " is past the end of clip '" + c.name + "' (" +
-                             number(c.duration) + " s): its last pose is used");
-    out.pose = anim::sample(model.skeleton, c, time, blend);
-    out.report = {{"kind", "clip"}, {"clip", c.name}, {"index", clip}, {"time", time}, {"blend", blend_name(blend)}};
-    out.text = "clip '" + c.name + "' (" + std::to_string(clip) + ") at t = " + number(time) + " s, " +
+    const anim::Clip& c = model.clips[static_cast<std::size_t>(chosen.clip)];
+    out.report = {{"kind", "clip"}, {"clip", c.name}, {"index", chosen.clip}, {"time", chosen.time}, {"blend", blend_name(blend)}};
+    out.text = "clip '" + c.name + "' (" + std::to_string(chosen.clip) + ") at t = " + number(chosen.time) + " s, " +
                blend_name(blend) + " blending";
   }
-  std::vector<anim::JointEdit> edits;
-  const double reach = sets.empty() ? INFINITY : max_translation(model);
-  for (const std::string& s : sets) edits.push_back(parse_edit(model.skeleton, s, reach));
-  anim::apply_edits(out.pose, edits);
   if (!sets.empty()) {
     out.report["edits"] = sets;
     out.text += " + " + std::to_string(sets.size()) + (sets.size() == 1 ? " edit" : " edits");
-  }
-  for (const std::string& m : morphs) {
-    const anim::MorphSetting setting = io::parse_morph_setting(m);
-    anim::set_morph_weight(out.pose, model.meshes, setting.target, setting.weight);
   }
   if (!morphs.empty()) {
     out.report["morph"] = morphs;
@@ -196,11 +187,6 @@ void check_no_empty_values(const CLI::App& app) {
                                 ": the value is empty");
   }
   for (const CLI::App* sub : app.get_subcommands()) check_no_empty_values(*sub);
-}
-
-bool is_gltf_path(const std::filesystem::path& path) {
-  const std::string ext = io::lower_extension(path);
-  return ext == ".glb" || ext == ".gltf";
 }
 
 }  // namespace cgamesh::cli

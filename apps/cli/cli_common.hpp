@@ -110,7 +110,4 @@ void add_load_timeout(CLI::App& app);
 /// @throws FileError as io::load_model does.
 [[nodiscard]] anim::RiggedModel load_model(const std::filesystem::path& path, bool print_warnings = true);
 
-/// True for a .glb or .gltf path (any case).
-[[nodiscard]] bool is_gltf_path(const std::filesystem::path& path);
-
 }  // namespace cgamesh::cli

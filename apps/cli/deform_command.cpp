@@ -11,8 +11,6 @@
 
 #include "cgamesh/deform/spec.hpp"
 #include "cgamesh/io/atomic_file.hpp"
-#include "cgamesh/io/gltf_writer.hpp"
-#include "cgamesh/io/mesh_writer.hpp"
 
 #include "cli_common.hpp"
 
@@ -43,14 +41,8 @@ struct DeformCommand {
     const double deform_ms = milliseconds_since(start);
 
     std::vector<std::string> warnings = m.warnings;
-    if (is_gltf_path(output)) {
-      const auto more = io::write_gltf(bound.deformed_model(m, deformed), output);
-      warnings.insert(warnings.end(), more.begin(), more.end());
-    } else {
-      const deform::Surfaces surfaces = bound.deformed_surfaces(m, deformed);
-      const io::EncodedFile file = io::encode_mesh(m.meshes, surfaces.positions, output, surfaces.normals);
-      io::write_files_atomically(std::span<const io::EncodedFile>(&file, 1));
-    }
+    const std::vector<std::string> more = bound.write(m, deformed, output);
+    warnings.insert(warnings.end(), more.begin(), more.end());
 
     const bool world = bound.space() == deform::DeformSpace::world;
     Json handle_sizes = Json::array();

@@ -18,6 +18,7 @@
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
+#include "cgamesh/io/model_writer.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_info.hpp"
 #include "cgamesh/io/model_loader.hpp"
@@ -110,7 +111,7 @@ void run_pose(const PoseOptions& o) {
   const anim::RiggedModel model = cli::load_model(o.model);
   const PoseChoice::Chosen chosen = o.pose.choose(model);
   const io::PosedFrame posed = posed_frame(model, chosen.pose, o.skinning);
-  if (is_gltf_path(o.output)) {
+  if (io::is_rigged_format(o.output)) {
     // The posed frame as a static glTF: world-space positions and skinned normals, no skin,
     // one root node.
     anim::RiggedModel frame;

@@ -11,8 +11,7 @@
 
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
-#include "cgamesh/io/gltf_writer.hpp"
-#include "cgamesh/io/mesh_writer.hpp"
+#include "cgamesh/io/model_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/soft/soft_operation.hpp"
 #include "cgamesh/surgery/cut.hpp"
@@ -31,8 +30,7 @@ namespace {
 std::vector<io::EncodedFile> encode_result(const anim::RiggedModel& model,
                                            const std::vector<mesh::RowMatrixXf<3>>& placed, const anim::Pose& pose,
                                            const std::string& out) {
-  if (is_gltf_path(out)) return io::encode_gltf(model, out);
-  return {io::encode_mesh(model.meshes, placed, out, surgery::placed_normals(model, pose))};
+  return io::encode_model(model, out, [&] { return mesh::WorldSurface{placed, surgery::placed_normals(model, pose)}; });
 }
 
 double milliseconds_since(std::chrono::steady_clock::time_point start) {

@@ -8,8 +8,6 @@
 #include "cgamesh/deform/motor_blend.hpp"
 #include "cgamesh/deform/spec.hpp"
 #include "cgamesh/errors.hpp"
-#include "cgamesh/io/gltf_writer.hpp"
-#include "cgamesh/io/mesh_writer.hpp"
 
 #include "bindings.hpp"
 
@@ -162,14 +160,7 @@ void add_deform(py::module_& m) {
               deformed = float_rows(positions, "positions", d.bound->vertex_count());
             }
             py::gil_scoped_release release;
-            std::string ext = std::filesystem::path(path).extension().string();
-            for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-            if (ext == ".glb" || ext == ".gltf") {
-              io::write_gltf(d.bound->deformed_model(d.model->model, deformed), path);
-            } else {
-              const deform::Surfaces surfaces = d.bound->deformed_surfaces(d.model->model, deformed);
-              io::write_mesh(d.model->model.meshes, surfaces.positions, path, surfaces.normals);
-            }
+            (void)d.bound->write(d.model->model, deformed, path);
           },
           py::arg("path"), py::arg("positions") = py::none(),
           "Writes what `cgamesh deform --spec SPEC -o path` writes (positions: None for the spec's keys): .glb/.gltf "

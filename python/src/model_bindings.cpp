@@ -5,12 +5,12 @@
 
 #include "cgamesh/anim/keyframes.hpp"
 #include "cgamesh/anim/morph.hpp"
+#include "cgamesh/anim/pose_choice.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/errors.hpp"
-#include "cgamesh/io/gltf_writer.hpp"
-#include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_info.hpp"
 #include "cgamesh/io/model_loader.hpp"
+#include "cgamesh/io/model_writer.hpp"
 #include "cgamesh/io/text_values.hpp"
 #include "cgamesh/mesh/subdivide.hpp"
 
@@ -125,32 +125,22 @@ void set_morph_weights(anim::Pose& pose, const anim::RiggedModel& model, const p
 anim::Pose make_pose(const Model& self, const py::object& clip, const py::object& time, const std::string& blend,
                      const py::iterable& edits, const py::dict& morph_weights) {
   const anim::RiggedModel& model = self.model;
-  const auto mode = by_name<decltype(io::kBlendModes), anim::BlendMode>(io::kBlendModes, blend, "blend");
-  anim::Pose pose;
-  int c = -1;
-  if (!clip.is_none())
-    c = py::isinstance<py::int_>(clip) ? clip.cast<int>() : io::clip_index(model, clip.cast<std::string>());
-  else if (!time.is_none())
-    c = model.clips.empty() ? -1 : 0;
-  if (c >= static_cast<int>(model.clips.size()) || c < -1 || (c == -1 && !clip.is_none()))
-    throw InvalidInputError("clip " + std::to_string(c) + ": the model has " + std::to_string(model.clips.size()) +
-                            " clips");
-  if (c < 0) {
-    pose = anim::rest_pose(model.skeleton);
-  } else {
-    const double t = time.is_none() ? 0.0 : time.cast<double>();
-    if (!std::isfinite(t) || t < 0) throw InvalidInputError("time must be a finite number >= 0");
-    pose = anim::sample(model.skeleton, model.clips[static_cast<std::size_t>(c)], t, mode);
+  anim::PoseRequest request;
+  request.blend = by_name<decltype(io::kBlendModes), anim::BlendMode>(io::kBlendModes, blend, "blend");
+  if (!clip.is_none()) {
+    request.clip = py::isinstance<py::int_>(clip) ? clip.cast<int>() : io::clip_index(model, clip.cast<std::string>());
+    if (request.clip < 0)
+      throw InvalidInputError("clip " + std::to_string(request.clip) + ": the model has " +
+                              std::to_string(model.clips.size()) + " clips");
   }
-  anim::apply_edits(pose, parse_edits(model, edits));
-  set_morph_weights(pose, model, morph_weights);
-  return pose;
-}
-
-bool is_gltf(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext == ".glb" || ext == ".gltf";
+  if (!time.is_none()) request.time = time.cast<double>();
+  request.edits = parse_edits(model, edits);
+  anim::ChosenPose chosen = anim::choose_pose(model, request);
+  // As the CLI does, on stderr: Python's warnings module.
+  for (const std::string& w : chosen.warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
+  set_morph_weights(chosen.pose, model, morph_weights);
+  return std::move(chosen.pose);
 }
 
 /// Model.skin: the posed positions per mesh, and with `normals` the skinned normals too (one pass).
@@ -363,21 +353,15 @@ void add_model(py::module_& m) {
           "save",
           [](const Model& me, const std::filesystem::path& file, const py::object& pose) {
             const std::string path = file.string();
-            std::vector<std::string> warnings;
-            if (is_gltf(path)) {
-              if (!pose.is_none())
-                throw InvalidInputError(
-                    "save: a glTF keeps the rig, not one pose (pose is for .obj/.ply; animate() "
-                    "stores poses as a clip)");
-              py::gil_scoped_release release;
-              warnings = io::write_gltf(me.model, path);
-            } else {
-              const anim::Pose p = pose_or_bind(me.model, pose);
-              py::gil_scoped_release release;
-              const io::PosedFrame frame = io::posed_frame(me.model, p, anim::SkinningMode::cga);
-              io::write_mesh(me.model.meshes, frame.positions, path, frame.normals);
-            }
-            return warnings;
+            if (io::is_rigged_format(path) && !pose.is_none())
+              throw InvalidInputError(
+                  "save: a glTF keeps the rig, not one pose (pose is for .obj/.ply; animate() "
+                  "stores poses as a clip)");
+            const anim::Pose p = pose_or_bind(me.model, pose);
+            py::gil_scoped_release release;
+            return io::write_model(me.model, path, [&]() -> mesh::WorldSurface {
+              return io::posed_frame(me.model, p, anim::SkinningMode::cga);
+            });
           },
           py::arg("path"), py::arg("pose") = py::none(),
           "Writes the model: .glb/.gltf as `cgamesh convert` (rigged: skin, skeleton, clips), .obj/.ply as "

@@ -3,8 +3,7 @@
 
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
-#include "cgamesh/io/gltf_writer.hpp"
-#include "cgamesh/io/mesh_writer.hpp"
+#include "cgamesh/io/model_writer.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
 #include "cgamesh/surgery/live_model.hpp"
@@ -166,13 +165,9 @@ void add_surgery(py::module_& m) {
           [](const SurgeryResult& r, const std::filesystem::path& file) {
             const std::string path = file.string();
             py::gil_scoped_release release;
-            const std::string ext = std::filesystem::path(path).extension().string();
-            std::string lower;
-            for (const char c : ext) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-            if (lower == ".glb" || lower == ".gltf")
-              io::write_gltf(r.model->model, path);
-            else
-              io::write_mesh(r.model->model.meshes, r.placed, path, surgery::placed_normals(r.model->model, r.pose));
+            (void)io::write_model(r.model->model, path, [&] {
+              return mesh::WorldSurface{r.placed, surgery::placed_normals(r.model->model, r.pose)};
+            });
           },
           py::arg("path"),
           "Writes the result as the CLI does: .glb/.gltf rigged, .obj/.ply the surface as placed, with its normals "

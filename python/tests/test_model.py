@@ -3,6 +3,7 @@ compared with what the CLI prints or writes for the same model."""
 
 import os
 import pathlib
+import warnings
 
 import numpy as np
 import pytest
@@ -136,6 +137,18 @@ def test_pose_defaults_follow_the_cli(tmp_path, cesium):
     box = cesium.info()["bounding_box"]
     np.testing.assert_allclose(cesium.skin(mode="matrix")[0].min(axis=0), box["min"], atol=1e-6)
     np.testing.assert_allclose(cesium.skin(mode="matrix")[0].max(axis=0), box["max"], atol=1e-6)
+
+
+def test_pose_past_a_clips_end_warns_as_the_cli_does(tmp_path, cesium):
+    end = cesium.clips[0].duration
+    with pytest.warns(UserWarning, match="past the end of clip"):
+        late = cesium.pose(time=end + 3)
+    np.testing.assert_array_equal(cesium.skin(late)[0], cesium.skin(cesium.pose(time=end))[0])
+    cli = run_cli_json("pose", CESIUM, "--time", str(end + 3), "-o", tmp_path / "late.obj")
+    assert any("past the end of clip" in w for w in cli["warnings"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cesium.pose(time=end)
 
 
 def test_subdivided_keeps_the_old_vertices_and_their_skinning(cesium):

@@ -23,6 +23,7 @@
 #include "cgamesh/deform/harmonic_handles.hpp"
 #include "cgamesh/deform/morph_transport.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/model_writer.hpp"
 #include "cgamesh/io/text_values.hpp"
 #include "cgamesh/mesh/normals.hpp"
 #include "cgamesh/mesh/union_find.hpp"
@@ -611,8 +612,8 @@ DeformSpace default_space(const anim::RiggedModel& model) noexcept {
   return rigged ? DeformSpace::world : DeformSpace::mesh;
 }
 
-Surfaces rest_surfaces(const anim::RiggedModel& model, DeformSpace space) {
-  Surfaces out;
+mesh::WorldSurface rest_surfaces(const anim::RiggedModel& model, DeformSpace space) {
+  mesh::WorldSurface out;
   if (space == DeformSpace::mesh) {
     for (const mesh::Mesh& m : model.meshes) {
       out.positions.push_back(m.positions);
@@ -1004,10 +1005,16 @@ anim::RiggedModel BoundDeformer::deformed_model(const anim::RiggedModel& model,
   return out;
 }
 
-Surfaces BoundDeformer::deformed_surfaces(const anim::RiggedModel& model, const mesh::RowMatrixXf<3>& positions) const {
-  Surfaces out = rest_surfaces(deformed_model(model, positions), space_);
+mesh::WorldSurface BoundDeformer::deformed_surfaces(const anim::RiggedModel& model, const mesh::RowMatrixXf<3>& positions) const {
+  mesh::WorldSurface out = rest_surfaces(deformed_model(model, positions), space_);
   out.positions[static_cast<std::size_t>(mesh_)] = positions;  // not through to_mesh_space and back
   return out;
+}
+
+std::vector<std::string> BoundDeformer::write(const anim::RiggedModel& model, const mesh::RowMatrixXf<3>& positions,
+                                              const std::filesystem::path& out) const {
+  return io::write_model(io::is_rigged_format(out) ? deformed_model(model, positions) : model, out,
+                         [&] { return deformed_surfaces(model, positions); });
 }
 
 }  // namespace cgamesh::deform

@@ -11,8 +11,7 @@
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
-#include "cgamesh/io/gltf_writer.hpp"
-#include "cgamesh/io/mesh_writer.hpp"
+#include "cgamesh/io/model_writer.hpp"
 #include "cgamesh/io/text_values.hpp"
 
 namespace cgamesh::session {
@@ -577,18 +576,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> Session::placed_bounds() const {
 // ---- Saving ----
 
 void Session::save(const std::filesystem::path& path, anim::SkinningMode mode) const {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".glb" || ext == ".gltf") {
-    io::write_files_atomically(io::encode_gltf(model(), path));
-  } else if (ext == ".obj" || ext == ".ply") {
-    const io::PosedFrame frame = io::posed_frame(model(), pose(), mode);
-    const io::EncodedFile f = io::encode_mesh(model().meshes, frame.positions, path, frame.normals);
-    io::write_files_atomically(std::span<const io::EncodedFile>(&f, 1));
-  } else {
-    throw InvalidInputError("save '" + path.string() + "': the file must be .glb, .gltf, .obj or .ply");
-  }
+  (void)io::write_model(model(), path, [&]() -> mesh::WorldSurface { return io::posed_frame(model(), pose(), mode); });
 }
 
 }  // namespace cgamesh::session

@@ -29,6 +29,7 @@
 #include "cgamesh/deform/motor_blend.hpp"
 #include "cgamesh/deform/spline_deform.hpp"
 #include "cgamesh/mesh/mesh.hpp"
+#include "cgamesh/mesh/world_surface.hpp"
 
 namespace cgamesh::deform {
 
@@ -151,16 +152,11 @@ struct DeformSpec {
 [[nodiscard]] DeformSpace default_space(const anim::RiggedModel& model) noexcept;
 
 /// Every mesh of a model as an OBJ or PLY holds it: positions and unit normals, per mesh.
-struct Surfaces {
-  std::vector<mesh::RowMatrixXf<3>> positions;  ///< per mesh, #V×3
-  std::vector<mesh::RowMatrixXf<3>> normals;    ///< per mesh, #V×3, or 0 rows for a mesh without normals
-};
-
 /// Every mesh of `model` at rest in `space`: in mesh space its own positions and normals; in
 /// world space the bind pose (matrix skinning, eq. 16; normals by each vertex's cofactor, as
 /// anim::skin_normals()).
 /// @throws InvalidInputError as anim::make_palette().
-[[nodiscard]] Surfaces rest_surfaces(const anim::RiggedModel& model, DeformSpace space);
+[[nodiscard]] mesh::WorldSurface rest_surfaces(const anim::RiggedModel& model, DeformSpace space);
 
 /// rest_surfaces(model, space).positions.
 /// @throws InvalidInputError as anim::make_palette().
@@ -271,7 +267,15 @@ class BoundDeformer {
   /// @param[in] model      the model bound (same meshes)
   /// @param[in] positions  #V×3 in space()
   /// @throws InvalidInputError as deformed_model().
-  [[nodiscard]] Surfaces deformed_surfaces(const anim::RiggedModel& model, const mesh::RowMatrixXf<3>& positions) const;
+  [[nodiscard]] mesh::WorldSurface deformed_surfaces(const anim::RiggedModel& model,
+                                                   const mesh::RowMatrixXf<3>& positions) const;
+
+  /// Writes the result by the extension of `out` (io::write_model()): deformed_model() as
+  /// .glb/.gltf, deformed_surfaces() as .obj/.ply. Atomic.
+  /// @return the glTF writer's warnings
+  /// @throws InvalidInputError as deformed_model() and io::write_model(); WriteError.
+  std::vector<std::string> write(const anim::RiggedModel& model, const mesh::RowMatrixXf<3>& positions,
+                                 const std::filesystem::path& out) const;
 
  private:
   void bind_ffd(const DeformSpec& spec, const SpecBindOptions& options);

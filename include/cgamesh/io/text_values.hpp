@@ -12,6 +12,7 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/io/model_writer.hpp"
 
 namespace cgamesh::io {
 
@@ -69,9 +70,9 @@ inline constexpr double kMaxReach = 1e6;
 
 /// One posed frame of a model in world space, per mesh of the model: what posed_frame() gives
 /// and what a static file of the frame (OBJ, PLY, glTF) holds.
-struct PosedFrame {
-  std::vector<mesh::RowMatrixXf<3>> positions;  ///< per mesh, #V×3 posed positions
-  std::vector<mesh::RowMatrixXf<3>> normals;    ///< per mesh, #V×3 unit skinned normals, or 0 rows without normals
+struct PosedFrame : mesh::WorldSurface {
+  // positions: per mesh, #V×3 posed positions; normals: per mesh, #V×3 unit skinned normals, or
+  // 0 rows without normals.
   /// versor and dqs on a rig whose joint maps are not all similarities (non-uniform scale or
   /// shear, anim::maps_by_similarities()): the largest distance of a posed vertex from the exact
   /// skinning of this pose (cga, matrix), in model units (anim::exact_displacement()); else 0.
