@@ -570,9 +570,25 @@ SettleReport Tissue::settle(const surgery::LiveModel& live, const anim::Pose& po
 
 std::vector<mesh::RowMatrixXf<3>> Tissue::positions(const surgery::LiveModel& live, const anim::Pose& pose) const {
   std::vector<mesh::RowMatrixXf<3>> out = surgery::place(live.model(), pose).positions;
-  for (const Member& u : members_)
-    out[static_cast<std::size_t>(u.mesh)].row(u.vertex) = x_[static_cast<std::size_t>(u.particle)].transpose().cast<float>();
+  for (std::size_t i = 0; i < out.size(); ++i)
+    overlay(live, static_cast<int>(i), std::span<float>(out[i].data(), static_cast<std::size_t>(out[i].size())));
   return out;
+}
+
+void Tissue::overlay(const surgery::LiveModel& live, int mesh, std::span<float> positions) const {
+  const auto& meshes = live.model().meshes;
+  if (mesh < 0 || mesh >= static_cast<int>(meshes.size()))
+    throw InvalidInputError("tissue: overlay: mesh " + std::to_string(mesh) + " of " + std::to_string(meshes.size()));
+  const auto rows = static_cast<std::size_t>(meshes[static_cast<std::size_t>(mesh)].vertex_count());
+  if (positions.size() != 3 * rows)
+    throw InvalidInputError("tissue: overlay: " + std::to_string(positions.size()) + " floats for " +
+                            std::to_string(rows) + " vertices (3 each)");
+  for (const Member& u : members_)
+    if (u.mesh == mesh) {
+      const Eigen::Vector3d& x = x_[static_cast<std::size_t>(u.particle)];
+      float* row = positions.data() + 3 * static_cast<std::size_t>(u.vertex);
+      for (int c = 0; c < 3; ++c) row[c] = static_cast<float>(x[c]);
+    }
 }
 
 anim::RiggedModel Tissue::bake(const surgery::LiveModel& live, const anim::Pose& pose) const {

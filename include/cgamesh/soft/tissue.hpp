@@ -82,6 +82,12 @@ class Tissue {
   [[nodiscard]] std::vector<mesh::RowMatrixXf<3>> positions(const surgery::LiveModel& live,
                                                             const anim::Pose& pose) const;
 
+  /// Overwrites the rows of mesh `mesh`'s simulated vertices in `positions` (#V×3 floats, row
+  /// after row: the mesh skinned in the pose of the last step, e.g. into an engine's buffer) with
+  /// the simulated positions, as positions() gives them, without placing every mesh.
+  /// @throws InvalidInputError for a mesh out of range or a span of another size.
+  void overlay(const surgery::LiveModel& live, int mesh, std::span<float> positions) const;
+
   /// The model with the simulated surface written back as rest positions through the inverse
   /// of each vertex's skinning in `pose` (as surgery's exact rest positions are solved), so
   /// that it animates with the wound as simulated: skinned in `pose`, it is positions(pose).
