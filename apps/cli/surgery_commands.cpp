@@ -79,7 +79,7 @@ struct SurgeryCommand {
   }
 
   [[nodiscard]] surgery::RestPosition rest() const {
-    return rest_position == "parametric" ? surgery::RestPosition::parametric : surgery::RestPosition::exact;
+    return io::value_by_name(io::kRestPositions, rest_position, "--rest");
   }
 
   /// Runs `operation` and returns its result; `ms` gets its time alone.
@@ -190,7 +190,7 @@ struct SurgeryCommand {
     sub.add_option("--rest", rest_position,
                    "rest positions of new vertices: exact (re-posed at the tool's pose they lie on the tool) or "
                    "parametric (the paper's edge/face parameters on the rest mesh)")
-        ->check(CLI::IsMember({"exact", "parametric"}))
+        ->check(CLI::IsMember(io::kRestPositions))
         ->capture_default_str();
     placement.add_to(sub);
     add_force(sub, force);

@@ -449,9 +449,8 @@ void Viewer::move(const Eigen::Vector2d& at) {
     // The plane through the picked point that holds the view ray and the dragged line.
     const render::Ray r0 = ray(drag_->start), r1 = ray(at);
     const double depth = (*cut_point_ - r0.origin).norm();
-    const Vec3 along = (r1.origin + r1.direction * depth) - *cut_point_;
-    const Vec3 n = along.cross(r0.direction);
-    if (n.norm() > 1e-12 * std::max(along.norm(), 1.0)) cut_normal_ = n.normalized();
+    if (const auto n = session::Session::cut_normal(*cut_point_, r0.direction, r1.origin + r1.direction * depth))
+      cut_normal_ = *n;
   } else if (tool_ == Tool::tear && session_.stroking()) {
     stroke_to(at);
   }
@@ -500,8 +499,7 @@ void Viewer::apply_cut() {
 void Viewer::apply_drill() {
   if (!drill_at_) return;
   const double size = session_.size();
-  const Vec3 axis = drill_along_view_ ? Vec3(-drill_view_.normalized()) : drill_at_->normal;
-  const Vec3 base = drill_at_->point + axis * (0.25 * depth_ * size), tip = drill_at_->point - axis * (depth_ * size);
+  const auto [axis, base, tip] = session::Session::drill_axis(*drill_at_, drill_view_, drill_along_view_, depth_ * size);
   surgery::DrillOptions o;
   o.wall = wall_;
   guarded("drill", [&] {
@@ -676,8 +674,7 @@ render::Scene Viewer::scene() const {
     s.lines.push_back(std::move(l));
   }
   if (tool_ == Tool::drill && drill_at_) {
-    const Vec3 axis = drill_along_view_ ? Vec3(-drill_view_.normalized()) : drill_at_->normal;
-    const Vec3 base = drill_at_->point + axis * (0.25 * depth_ * size), tip = drill_at_->point - axis * (depth_ * size);
+    const auto [axis, base, tip] = session::Session::drill_axis(*drill_at_, drill_view_, drill_along_view_, depth_ * size);
     render::LineSet l;
     l.points = circle(base, axis, radius_ * size, 32);
     const auto bottom = circle(tip, axis, radius_ * size, 32);
@@ -862,20 +859,15 @@ void Viewer::panel() {
   ImGui::Text("%.1f FPS, %.2f ms per frame", fps_, frame_ms_);
 
   if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
-    static const std::array<const char*, 6> views{"front", "back", "left", "right", "top", "iso"};
-    for (std::size_t i = 0; i < views.size(); ++i) {
-      if (i > 0) ImGui::SameLine();
-      if (ImGui::SmallButton(views[i])) {
-        options_.view = render::parse_view(views[i]);
+    for (const auto& [name, view] : render::kViews) {
+      if (view != render::kViews.front().second) ImGui::SameLine();
+      if (ImGui::SmallButton(std::string(name).c_str())) {
+        options_.view = view;
         frame_all();
       }
     }
     if (ImGui::Button("Frame all")) frame_all();
-    static const std::map<std::string, render::ColorMode> colors{
-        {"material", render::ColorMode::material}, {"height", render::ColorMode::height},
-        {"normal", render::ColorMode::normal},     {"joint", render::ColorMode::joint},
-        {"weights", render::ColorMode::weights},   {"piece", render::ColorMode::piece},
-        {"new", render::ColorMode::generated}};
+    static const std::map<std::string, render::ColorMode> colors(render::kColorModes.begin(), render::kColorModes.end());
     combo("colour", options_.scene.color, colors);
     if (options_.scene.color == render::ColorMode::joint && joint_ >= 0)
       options_.scene.joint = model.skeleton.names()[static_cast<std::size_t>(joint_)];

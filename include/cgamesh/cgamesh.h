@@ -52,7 +52,8 @@ typedef enum cgamesh_status {
   CGAMESH_ERROR_SOLVER = 5,           /**< a numerical method failed (a singular system, a diverging tissue) */
   CGAMESH_ERROR_PLATFORM = 6,         /**< the machine cannot do what was asked */
   CGAMESH_ERROR_OUT_OF_MEMORY = 7,
-  CGAMESH_ERROR_INTERNAL = 8          /**< a bug: please report it with the message */
+  CGAMESH_ERROR_INTERNAL = 8,         /**< a bug: please report it with the message */
+  CGAMESH_STATUS_MAX_ENUM = 0x7FFFFFFF /**< (makes the type 32 bits wide: any value may be passed) */
 } cgamesh_status;
 
 /** The message of the last error on this thread ("" when the last call succeeded); valid until
@@ -123,7 +124,8 @@ CGAMESH_API cgamesh_status cgamesh_model_clip_duration(const cgamesh_model* mode
 typedef enum cgamesh_blend {
   CGAMESH_BLEND_FORMAT = 0, /**< as the file says (glTF: lerp/slerp, step, cubic spline) */
   CGAMESH_BLEND_LINEAR = 1, /**< linear blend of the key versors */
-  CGAMESH_BLEND_LOG = 2     /**< logarithmic blend of the key versors */
+  CGAMESH_BLEND_LOG = 2,    /**< logarithmic blend of the key versors */
+  CGAMESH_BLEND_MAX_ENUM = 0x7FFFFFFF
 } cgamesh_blend;
 
 /** A pose of `model`'s skeleton: the bind pose to begin with. */
@@ -158,7 +160,8 @@ typedef enum cgamesh_skinning {
   CGAMESH_SKINNING_CGA = 0,    /**< versors of the bones, exact for any rig (the default) */
   CGAMESH_SKINNING_VERSOR = 1, /**< blended versors */
   CGAMESH_SKINNING_MATRIX = 2, /**< linear blend of matrices */
-  CGAMESH_SKINNING_DQS = 3     /**< dual quaternions */
+  CGAMESH_SKINNING_DQS = 3,    /**< dual quaternions */
+  CGAMESH_SKINNING_MAX_ENUM = 0x7FFFFFFF
 } cgamesh_skinning;
 
 /** Mesh `mesh` of `model` in `pose`, world space: #V*3 positions into `positions`, and when

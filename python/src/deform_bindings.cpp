@@ -8,6 +8,7 @@
 #include "cgamesh/deform/motor_blend.hpp"
 #include "cgamesh/deform/spec.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/text_values.hpp"
 
 #include "bindings.hpp"
 
@@ -293,14 +294,7 @@ void add_deform(py::module_& m) {
         me.positions = float_rows(positions, "positions");
         me.faces = Eigen::Map<const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(f.data(), f.shape(0), 3);
         deform::HarmonicOptions options;
-        if (weights == "mean_value")
-          options.weights = deform::LaplacianWeights::mean_value;
-        else if (weights == "cotangent")
-          options.weights = deform::LaplacianWeights::cotangent;
-        else if (weights == "clamped_cotangent")
-          options.weights = deform::LaplacianWeights::clamped_cotangent;
-        else
-          throw InvalidInputError("weights '" + weights + "': expected mean_value, cotangent or clamped_cotangent");
+        options.weights = io::value_by_name(deform::kLaplacianWeights, weights, "weights");
         const std::vector<int> ids(c.data(), c.data() + c.shape(0));
         HarmonicField h;
         py::gil_scoped_release release;

@@ -89,17 +89,6 @@ std::vector<anim::JointEdit> parse_edits(const anim::RiggedModel& model, const p
   return out;
 }
 
-template <class Map, class Value>
-Value by_name(const Map& names, const std::string& name, const char* what) {
-  const auto it = names.find(name);
-  if (it == names.end()) {
-    std::string list;
-    for (const auto& [k, v] : names) list += (list.empty() ? "" : ", ") + k;
-    throw InvalidInputError(std::string(what) + " '" + name + "': expected one of " + list);
-  }
-  return it->second;
-}
-
 /// Sets the morph weights `weights` gives in `pose`: {target name: weight} or {mesh index:
 /// #targets weights}.
 void set_morph_weights(anim::Pose& pose, const anim::RiggedModel& model, const py::dict& weights) {
@@ -126,7 +115,7 @@ anim::Pose make_pose(const Model& self, const py::object& clip, const py::object
                      const py::iterable& edits, const py::dict& morph_weights) {
   const anim::RiggedModel& model = self.model;
   anim::PoseRequest request;
-  request.blend = by_name<decltype(io::kBlendModes), anim::BlendMode>(io::kBlendModes, blend, "blend");
+  request.blend = io::value_by_name(io::kBlendModes, blend, "blend");
   if (!clip.is_none()) {
     request.clip = py::isinstance<py::int_>(clip) ? clip.cast<int>() : io::clip_index(model, clip.cast<std::string>());
     if (request.clip < 0)
@@ -145,7 +134,7 @@ anim::Pose make_pose(const Model& self, const py::object& clip, const py::object
 
 /// Model.skin: the posed positions per mesh, and with `normals` the skinned normals too (one pass).
 py::object skin_lists(const anim::RiggedModel& model, const anim::Pose& pose, const std::string& mode, bool normals) {
-  const auto m = by_name<decltype(io::kSkinningModes), anim::SkinningMode>(io::kSkinningModes, mode, "mode");
+  const auto m = io::value_by_name(io::kSkinningModes, mode, "mode");
   io::PosedFrame frame;
   {
     py::gil_scoped_release release;
@@ -403,7 +392,7 @@ void add_model(py::module_& m) {
           "animate",
           [](const Model& me, const py::iterable& keys, const std::string& blend, double fps, const std::string& name) {
             if (!(fps > 0) || !std::isfinite(fps)) throw InvalidInputError("fps must be a finite number > 0");
-            const auto mode = by_name<decltype(io::kBlendModes), anim::BlendMode>(io::kBlendModes, blend, "blend");
+            const auto mode = io::value_by_name(io::kBlendModes, blend, "blend");
             std::map<double, anim::Keyframe> frames;
             for (const py::handle k : keys) {
               const auto pair = k.cast<py::sequence>();

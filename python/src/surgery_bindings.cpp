@@ -4,6 +4,7 @@
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_writer.hpp"
+#include "cgamesh/io/text_values.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
 #include "cgamesh/surgery/live_model.hpp"
@@ -25,17 +26,9 @@ struct SurgeryResult {
   py::dict stats;
 };
 
-surgery::RestPosition rest_of(const std::string& rest) {
-  if (rest == "exact") return surgery::RestPosition::exact;
-  if (rest == "parametric") return surgery::RestPosition::parametric;
-  throw InvalidInputError("rest '" + rest + "': expected 'exact' or 'parametric'");
-}
+surgery::RestPosition rest_of(const std::string& rest) { return io::value_by_name(io::kRestPositions, rest, "rest"); }
 
-surgery::Predicates predicates_of(const std::string& p) {
-  if (p == "cga") return surgery::Predicates::cga;
-  if (p == "euclidean") return surgery::Predicates::euclidean;
-  throw InvalidInputError("predicates '" + p + "': expected 'cga' or 'euclidean'");
-}
+surgery::Predicates predicates_of(const std::string& p) { return io::value_by_name(io::kPredicates, p, "predicates"); }
 
 cga::Vector<double> plane_of(const py::handle& plane) {
   const auto p = rows_of(plane, 4, "plane (nx, ny, nz, d)", 1);

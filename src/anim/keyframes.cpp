@@ -7,17 +7,9 @@
 
 #include "cgamesh/cga/interpolation.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/number_text.hpp"
 
 namespace cgamesh::anim {
-namespace {
-
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-}  // namespace
 
 Clip generate_clip(const Skeleton& skeleton, std::span<const Keyframe> keyframes, const KeyframeOptions& options) {
   if (keyframes.size() < 2) throw InvalidInputError("keyframes: need at least two keyframes");
@@ -41,8 +33,8 @@ Clip generate_clip(const Skeleton& skeleton, std::span<const Keyframe> keyframes
   clip.duration = t1;
   const double frame_count = std::ceil((t1 - t0) * options.fps - 1e-9) + 1;
   if (!(frame_count <= kMaxGeneratedFrames))
-    throw InvalidInputError("keyframes: " + number(t1 - t0) + " s at " + number(options.fps) + " fps makes " +
-                            number(frame_count) + " frames, more than the " + number(kMaxGeneratedFrames) +
+    throw InvalidInputError("keyframes: " + number_text(t1 - t0) + " s at " + number_text(options.fps) + " fps makes " +
+                            number_text(frame_count) + " frames, more than the " + number_text(kMaxGeneratedFrames) +
                             " a generated clip may hold");
   const auto frames = static_cast<std::size_t>(frame_count);
   for (int j : edited) {

@@ -150,6 +150,7 @@ anim::SkinningMode skinning_of(cgamesh_skinning mode) {
     case CGAMESH_SKINNING_VERSOR: return anim::SkinningMode::versor;
     case CGAMESH_SKINNING_MATRIX: return anim::SkinningMode::matrix;
     case CGAMESH_SKINNING_DQS: return anim::SkinningMode::dqs;
+    case CGAMESH_SKINNING_MAX_ENUM: break;
   }
   throw InvalidInputError("skinning mode " + std::to_string(static_cast<int>(mode)) + ": expected 0 to 3");
 }
@@ -276,6 +277,7 @@ const char* cgamesh_status_name(cgamesh_status status) {
     case CGAMESH_ERROR_PLATFORM: return "CGAMESH_ERROR_PLATFORM";
     case CGAMESH_ERROR_OUT_OF_MEMORY: return "CGAMESH_ERROR_OUT_OF_MEMORY";
     case CGAMESH_ERROR_INTERNAL: return "CGAMESH_ERROR_INTERNAL";
+    case CGAMESH_STATUS_MAX_ENUM: break;
   }
   return "unknown status";
 }

@@ -15,6 +15,10 @@
 
 namespace cgamesh::deform {
 
+const std::map<std::string, LaplacianWeights> kLaplacianWeights{{"mean_value", LaplacianWeights::mean_value},
+                                                                {"cotangent", LaplacianWeights::cotangent},
+                                                                {"clamped_cotangent", LaplacianWeights::clamped_cotangent}};
+
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
 namespace {

@@ -497,19 +497,15 @@ cga::Versor<double> KeyTransform::versor() const {
                                          cga::translator(Eigen::Vector3d(-center)));
 }
 
+const std::map<std::string, DeformMethod> kDeformMethods{{"spline", DeformMethod::spline},
+                                                        {"harmonic", DeformMethod::harmonic},
+                                                        {"ffd", DeformMethod::ffd},
+                                                        {"cage", DeformMethod::cage},
+                                                        {"arap", DeformMethod::arap}};
+
 const char* method_name(DeformMethod method) noexcept {
-  switch (method) {
-    case DeformMethod::spline:
-      return "spline";
-    case DeformMethod::harmonic:
-      return "harmonic";
-    case DeformMethod::ffd:
-      return "ffd";
-    case DeformMethod::cage:
-      return "cage";
-    case DeformMethod::arap:
-      return "arap";
-  }
+  for (const auto& [name, value] : kDeformMethods)
+    if (value == method) return name.c_str();
   return "?";
 }
 
@@ -527,13 +523,7 @@ DeformSpec parse_spec(std::string_view text, const std::string& source) {
               "");
   DeformSpec s;
   if (!j.contains("method")) bad("method", "missing (spline, harmonic, ffd, cage or arap)");
-  s.method = choice<DeformMethod>(j, "method",
-                                  {{"spline", DeformMethod::spline},
-                                   {"harmonic", DeformMethod::harmonic},
-                                   {"ffd", DeformMethod::ffd},
-                                   {"cage", DeformMethod::cage},
-                                   {"arap", DeformMethod::arap}},
-                                  DeformMethod::spline);
+  s.method = choice<DeformMethod>(j, "method", kDeformMethods, DeformMethod::spline);
   // Each method's own fields: a field another method reads is an error, not silently ignored.
   const bool ffd = s.method == DeformMethod::ffd, cage = s.method == DeformMethod::cage;
   for (const char* field : {"weights", "basis", "degree", "ik", "free_parts"})

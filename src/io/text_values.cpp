@@ -10,6 +10,7 @@
 
 #include "cgamesh/anim/morph.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/number_text.hpp"
 
 namespace cgamesh::io {
 
@@ -22,6 +23,10 @@ const std::map<std::string, anim::SkinningMode> kSkinningModes{{"cga", SkinningM
                                                                {"versor", SkinningMode::versor},
                                                                {"matrix", SkinningMode::matrix},
                                                                {"dqs", SkinningMode::dqs}};
+const std::map<std::string, surgery::RestPosition> kRestPositions{{"exact", surgery::RestPosition::exact},
+                                                                  {"parametric", surgery::RestPosition::parametric}};
+const std::map<std::string, surgery::Predicates> kPredicates{{"cga", surgery::Predicates::cga},
+                                                             {"euclidean", surgery::Predicates::euclidean}};
 
 int joint_index(const anim::Skeleton& skeleton, const std::string& name) {
   const int j = skeleton.find(name);
@@ -48,11 +53,7 @@ std::string skinning_name(SkinningMode mode) {
   return "?";
 }
 
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
+std::string number(double x) { return number_text(x); }
 
 std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what) {
   std::vector<double> out;

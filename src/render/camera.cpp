@@ -69,12 +69,8 @@ std::string edge_on_warning(const Box& box, std::span<const Camera> cameras, con
 }
 
 View parse_view(const std::string& name) {
-  if (name == "front") return View::front;
-  if (name == "back") return View::back;
-  if (name == "left") return View::left;
-  if (name == "right") return View::right;
-  if (name == "top") return View::top;
-  if (name == "iso") return View::iso;
+  for (const auto& [text, view] : kViews)
+    if (name == text) return view;
   throw InvalidInputError("view '" + name + "': expected front, back, left, right, top or iso");
 }
 

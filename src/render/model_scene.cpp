@@ -119,12 +119,8 @@ ColorMode parse_color_mode(const std::string& name, std::string& joint_name) {
     if (joint_name.empty()) throw InvalidInputError("--color joint:NAME needs a joint name");
     return ColorMode::joint;
   }
-  if (name == "material") return ColorMode::material;
-  if (name == "height") return ColorMode::height;
-  if (name == "normal") return ColorMode::normal;
-  if (name == "weights") return ColorMode::weights;
-  if (name == "piece") return ColorMode::piece;
-  if (name == "new") return ColorMode::generated;
+  for (const auto& [text, mode] : kColorModes)
+    if (name == text && mode != ColorMode::joint) return mode;
   throw InvalidInputError("colour '" + name +
                           "': expected material, height, normal, joint:NAME, weights, piece or new");
 }

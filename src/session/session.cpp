@@ -558,6 +558,20 @@ surgery::Scalpel Session::blade(const Pick& at, const Eigen::Vector3d& view_dire
   return {at.point - d, at.point + d};
 }
 
+Session::DrillAxis Session::drill_axis(const Pick& at, const Eigen::Vector3d& view_direction, bool along_view,
+                                       double depth) {
+  const Eigen::Vector3d axis = along_view ? Eigen::Vector3d(-view_direction.normalized()) : at.normal;
+  return {axis, at.point + axis * (0.25 * depth), at.point - axis * depth};
+}
+
+std::optional<Eigen::Vector3d> Session::cut_normal(const Eigen::Vector3d& point, const Eigen::Vector3d& view_direction,
+                                                   const Eigen::Vector3d& dragged) {
+  const Eigen::Vector3d along = dragged - point;
+  const Eigen::Vector3d n = along.cross(view_direction);
+  if (n.norm() > 1e-12 * std::max(along.norm(), 1.0)) return n.normalized();
+  return std::nullopt;
+}
+
 double Session::size() const {
   const auto [lo, hi] = placed_bounds();
   return (hi.array() >= lo.array()).all() ? (hi - lo).norm() : 0.0;

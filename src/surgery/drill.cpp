@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/number_text.hpp"
 
 #include "driller.hpp"
 #include "surgery_common.hpp"
@@ -52,11 +53,6 @@ double axis_hit(const Placement& placement, const SurfaceIndex& index, const Cyl
   return best;
 }
 
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
 
 /// @throws TopologyError when the drill meets no face of any mesh; the message says when it
 ///         stops short of the surface (its axis meets it beyond the tip) or points away from it.
@@ -64,11 +60,11 @@ void require_hit(const DrillStats& stats, const Placement& placement, const Surf
   if (stats.faces_affected != 0) return;
   const double ahead = axis_hit(placement, index, c, true);
   if (std::isfinite(ahead))
-    throw TopologyError("drill: the drill stops short of the surface: its axis meets the model " + number(ahead) +
+    throw TopologyError("drill: the drill stops short of the surface: its axis meets the model " + number_text(ahead) +
                         " beyond the tip (move the tip further along the axis)");
   const double behind = axis_hit(placement, index, c, false);
   if (std::isfinite(behind))
-    throw TopologyError("drill: the drill points away from the model: its axis meets the surface " + number(behind) +
+    throw TopologyError("drill: the drill points away from the model: its axis meets the surface " + number_text(behind) +
                         " behind the base (swap --tip and --base, or move them)");
   throw TopologyError("drill: the drill misses the model (no face meets the cylinder between its base and tip)");
 }

@@ -18,6 +18,7 @@
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/errors.hpp"
+#include "cgamesh/number_text.hpp"
 
 namespace cgamesh::surgery {
 
@@ -96,15 +97,6 @@ void require_placement_fits(const anim::RiggedModel& model, const Placement& pla
                               std::to_string(placement.positions[i].rows()) + " placed positions");
 }
 
-namespace {
-
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-}  // namespace
 
 PlacedBox placed_box(const Placement& placement) {
   PlacedBox b;
@@ -132,16 +124,16 @@ void require_in_reach(const PlacedBox& b, const Eigen::Vector3d& point, const st
   const double reach = kMaxToolReach * std::max(b.diagonal(), 1e-30);
   const Eigen::Vector3d outside = (b.lo - point).cwiseMax(point - b.hi).cwiseMax(0.0);
   if (!(outside.stableNorm() <= reach))
-    throw InvalidInputError(what + " lies " + number(outside.stableNorm()) + " from the model, more than " +
-                            number(kMaxToolReach) + " times the model's size (" + number(b.diagonal()) +
+    throw InvalidInputError(what + " lies " + number_text(outside.stableNorm()) + " from the model, more than " +
+                            number_text(kMaxToolReach) + " times the model's size (" + number_text(b.diagonal()) +
                             "): no geometric sense for this model");
 }
 
 void require_size_in_reach(const PlacedBox& b, double length, const std::string& what) {
   if (b.empty()) return;
   if (!(length <= kMaxToolReach * std::max(b.diagonal(), 1e-30)))
-    throw InvalidInputError(what + " " + number(length) + " is more than " + number(kMaxToolReach) +
-                            " times the model's size (" + number(b.diagonal()) +
+    throw InvalidInputError(what + " " + number_text(length) + " is more than " + number_text(kMaxToolReach) +
+                            " times the model's size (" + number_text(b.diagonal()) +
                             "): no geometric sense for this model");
 }
 

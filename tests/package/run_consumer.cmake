@@ -6,7 +6,8 @@ foreach(step
     "${CMAKE_COMMAND};--install;${BUILD};--prefix;${WORK}/prefix"
     "${CMAKE_COMMAND};-S;${SRC};-B;${WORK}/build;-DCMAKE_PREFIX_PATH=${WORK}/prefix;-DCMAKE_BUILD_TYPE=Release"
     "${CMAKE_COMMAND};--build;${WORK}/build"
-    "${WORK}/build/consumer;${MODEL}")
+    "${WORK}/build/consumer;${MODEL}"
+    "${WORK}/build/c_consumer;${MODEL}")
   execute_process(COMMAND ${step} RESULT_VARIABLE code)
   if(NOT code EQUAL 0)
     message(FATAL_ERROR "failed (${code}): ${step}")

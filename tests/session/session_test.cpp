@@ -431,3 +431,30 @@ TEST(Script, JointActionsChangeOnePartOfTheEdit) {
 }
 
 }  // namespace
+
+// The tools the viewer places from a click and a drag: a drill along the normal or the view,
+// and the cut plane holding the view ray and the dragged line.
+TEST(SessionTools, DrillAxisAlongTheNormalOrTheView) {
+  cgamesh::session::Pick at;
+  at.point = {1, 2, 3};
+  at.normal = {0, 0, 1};
+  const Eigen::Vector3d view = Eigen::Vector3d(0, -2, 0);
+  const auto n = Session::drill_axis(at, view, false, 0.4);
+  EXPECT_TRUE(n.axis.isApprox(Eigen::Vector3d(0, 0, 1)));
+  EXPECT_TRUE(n.base.isApprox(Eigen::Vector3d(1, 2, 3.1)));
+  EXPECT_TRUE(n.tip.isApprox(Eigen::Vector3d(1, 2, 2.6)));
+  const auto v = Session::drill_axis(at, view, true, 0.4);
+  EXPECT_TRUE(v.axis.isApprox(Eigen::Vector3d(0, 1, 0)));  // against the view: out of the screen
+  EXPECT_TRUE(v.tip.isApprox(Eigen::Vector3d(1, 1.6, 3)));
+}
+
+TEST(SessionTools, CutNormalHoldsTheRayAndTheDrag) {
+  const Eigen::Vector3d point(0, 1, 0), view(0, 0, -1);
+  const auto n = Session::cut_normal(point, view, point + Eigen::Vector3d(1, 0.5, 0));
+  ASSERT_TRUE(n.has_value());
+  EXPECT_NEAR(n->norm(), 1, 1e-12);
+  EXPECT_NEAR(n->dot(view), 0, 1e-12);
+  EXPECT_NEAR(n->dot(Eigen::Vector3d(1, 0.5, 0)), 0, 1e-12);
+  EXPECT_FALSE(Session::cut_normal(point, view, point + 2 * view).has_value());
+  EXPECT_FALSE(Session::cut_normal(point, view, point).has_value());
+}

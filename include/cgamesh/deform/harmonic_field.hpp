@@ -15,8 +15,10 @@
 // the field cannot tear along a seam.
 
 #include <array>
+#include <map>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -32,6 +34,9 @@ enum class LaplacianWeights {
   cotangent,          ///< ½(cot α + cot β), negative next to obtuse angles
   clamped_cotangent,  ///< each ½ cot clamped at 0
 };
+
+/// The weights by name: mean_value, cotangent, clamped_cotangent.
+extern const std::map<std::string, LaplacianWeights> kLaplacianWeights;
 
 struct HarmonicOptions {
   LaplacianWeights weights = LaplacianWeights::mean_value;

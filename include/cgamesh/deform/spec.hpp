@@ -11,6 +11,7 @@
 
 #include <array>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -40,6 +41,9 @@ enum class DeformMethod {
   cage,      ///< harmonic cage coordinates (VI): handles select cage vertices, or a deformed cage
   arap,      ///< as-rigid-as-possible (VII): one key per handle moves its vertices, the rest follows
 };
+
+/// The methods by the names a spec gives them.
+extern const std::map<std::string, DeformMethod> kDeformMethods;
 
 /// The method's name in a spec ("spline", "harmonic", "ffd", "cage", "arap").
 [[nodiscard]] const char* method_name(DeformMethod method) noexcept;

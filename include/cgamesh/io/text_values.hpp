@@ -12,6 +12,8 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
+#include "cgamesh/errors.hpp"
+#include "cgamesh/surgery/placement.hpp"
 #include "cgamesh/io/model_writer.hpp"
 
 namespace cgamesh::io {
@@ -20,6 +22,21 @@ namespace cgamesh::io {
 extern const std::map<std::string, anim::BlendMode> kBlendModes;
 /// Skinning modes by name: cga, versor, matrix, dqs.
 extern const std::map<std::string, anim::SkinningMode> kSkinningModes;
+/// Rest positions of surgery's new vertices by name: exact, parametric.
+extern const std::map<std::string, surgery::RestPosition> kRestPositions;
+/// Surgery's predicates by name: cga, euclidean.
+extern const std::map<std::string, surgery::Predicates> kPredicates;
+
+/// The value named `name` in `names` (one of the tables above).
+/// @throws InvalidInputError naming `what` and listing the names there are.
+template <class T>
+[[nodiscard]] T value_by_name(const std::map<std::string, T>& names, const std::string& name, const std::string& what) {
+  const auto it = names.find(name);
+  if (it != names.end()) return it->second;
+  std::string list;
+  for (const auto& entry : names) list += (list.empty() ? "" : ", ") + entry.first;
+  throw InvalidInputError(what + " '" + name + "': expected one of " + list);
+}
 
 /// The farthest a joint edit may translate or scale, in model sizes: values beyond make no
 /// geometric sense and overflow floats.

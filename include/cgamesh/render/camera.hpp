@@ -3,8 +3,11 @@
 // −z, clip space z in [−w, w]), named views, and framing a bounding box. No OpenGL here: the
 // same matrices project points on the CPU (tests compare silhouettes with them).
 
+#include <array>
 #include <span>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -36,6 +39,14 @@ struct Camera {
 /// −z, `back` from −z, `left` from −x, `right` from +x, `top` from +y (up = −z), `iso` from
 /// (+1, +0.8, +1).
 enum class View { front, back, left, right, top, iso };
+
+/// The views by name, in the order a user meets them.
+inline constexpr std::array<std::pair<std::string_view, View>, 6> kViews{{{"front", View::front},
+                                                                          {"back", View::back},
+                                                                          {"left", View::left},
+                                                                          {"right", View::right},
+                                                                          {"top", View::top},
+                                                                          {"iso", View::iso}}};
 
 /// The view named `name` (front, back, left, right, top, iso).
 /// @throws InvalidInputError for another name.

@@ -2,8 +2,11 @@
 // A rigged model seen as a Scene: its meshes skinned in a pose, coloured by a mode (the papers'
 // figures colour by height or by the influence of one joint), and the skeleton as an overlay.
 
+#include <array>
 #include <span>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cgamesh/anim/pose.hpp"
@@ -24,6 +27,15 @@ enum class ColorMode {
   piece,     ///< a colour per connected piece (surgery/pieces.hpp), counted over all models
   generated  ///< vertices made by an operation (cut, tear, drill) in a hot colour, others grey
 };
+
+/// The modes by name (a user's choices, in this order; `joint` is "joint:NAME" in text).
+inline constexpr std::array<std::pair<std::string_view, ColorMode>, 7> kColorModes{{{"material", ColorMode::material},
+                                                                                    {"height", ColorMode::height},
+                                                                                    {"normal", ColorMode::normal},
+                                                                                    {"joint", ColorMode::joint},
+                                                                                    {"weights", ColorMode::weights},
+                                                                                    {"piece", ColorMode::piece},
+                                                                                    {"new", ColorMode::generated}}};
 
 /// The mode named `name` (material, height, normal, joint, weights, piece, new); "joint:NAME"
 /// gives `joint` and sets `joint_name`.

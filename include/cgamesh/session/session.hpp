@@ -192,6 +192,22 @@ class Session {
   /// view direction (the handle, above the surface) to `depth` behind it (the tip, below).
   [[nodiscard]] static surgery::Scalpel blade(const Pick& at, const Eigen::Vector3d& view_direction, double depth);
 
+  /// A drill placed at a picked point: its axis along the surface's normal there, or against
+  /// `view_direction` when `along_view`; the base `depth`/4 above the point, the tip `depth`
+  /// below it.
+  struct DrillAxis {
+    Eigen::Vector3d axis, base, tip;
+  };
+  [[nodiscard]] static DrillAxis drill_axis(const Pick& at, const Eigen::Vector3d& view_direction, bool along_view,
+                                            double depth);
+
+  /// The normal of the cut plane through `point` that holds the view ray `view_direction` and
+  /// the line dragged from `point` to `dragged` (both in world space), or nothing when the drag
+  /// runs along the ray.
+  [[nodiscard]] static std::optional<Eigen::Vector3d> cut_normal(const Eigen::Vector3d& point,
+                                                                 const Eigen::Vector3d& view_direction,
+                                                                 const Eigen::Vector3d& dragged);
+
   /// Length of the diagonal of the bounding box of the model as last placed (the scale of
   /// tools; not placed again for a new pose, which would cost a re-index every frame of play).
   [[nodiscard]] double size() const;
