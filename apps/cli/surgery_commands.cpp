@@ -12,6 +12,7 @@
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_writer.hpp"
+#include "cgamesh/io/surgery_stats.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/soft/soft_operation.hpp"
 #include "cgamesh/surgery/cut.hpp"
@@ -238,13 +239,10 @@ struct CutCommand : SurgeryCommand {
             return live_cut.changes;
           },
           ms);
-      report(outputs, ms, scene,
-             {{"new_vertices", live_cut.new_vertices},
-              {"intersection_points", live_cut.intersection_points},
-              {"faces_in", live_cut.faces_in},
-              {"faces_out", live_cut.faces_out},
-              {"faces_split", live_cut.faces_split},
-              {"soft", Soft::json(s.report)}},
+      Json fields = Json::parse(io::stats_json(live_cut));
+      fields["faces_out"] = live_cut.faces_out;
+      fields["soft"] = Soft::json(s.report);
+      report(outputs, ms, scene, fields,
              "cut " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(live_cut.intersection_points) +
                  " intersection points, " + std::to_string(live_cut.faces_split) + " faces split, " +
                  std::to_string(live_cut.faces_in) + " -> " + std::to_string(live_cut.faces_out) + " faces" +
@@ -264,13 +262,9 @@ struct CutCommand : SurgeryCommand {
           files.push_back(std::move(f));
     }
     io::write_files_atomically(files);
-    report(outputs, ms, scene,
-           {{"new_vertices", c.new_vertices},
-            {"intersection_points", c.intersection_points},
-            {"faces_in", c.faces_in},
-            {"faces_out", c.faces_out},
-            {"faces_split", c.faces_split},
-            {"cap_triangles", c.cap_triangles}},
+    Json fields = Json::parse(io::stats_json(c));
+    fields["faces_out"] = c.faces_out;
+    report(outputs, ms, scene, fields,
            "cut " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(c.intersection_points) +
                " intersection points, " + std::to_string(c.faces_split) + " faces split, " +
                std::to_string(c.faces_out[0]) + " + " + std::to_string(c.faces_out[1]) + " faces" +
@@ -318,17 +312,7 @@ struct DrillCommand : SurgeryCommand {
 
   void report_drill(const surgery::DrillStats& d, double ms, const Scene& scene, const Json& soft_report,
                     const std::string& soft_text) const {
-    Json fields = {{"new_vertices", d.new_vertices},
-                   {"intersection_points", d.intersection_points},
-                   {"faces_in", d.faces_in},
-                   {"faces_out", d.faces_out},
-                   {"faces_removed", d.faces_removed},
-                   {"faces_affected", d.faces_affected},
-                   {"refinements", d.refinements},
-                   {"rims", d.rims},
-                   {"walls", d.walls},
-                   {"open_rims", d.open_rims},
-                   {"wall_triangles", d.wall_triangles}};
+    Json fields = Json::parse(io::stats_json(d));
     if (!soft_report.is_null()) fields["soft"] = soft_report;
     report(output, ms, scene, fields,
            "drill " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(d.intersection_points) +
@@ -371,16 +355,9 @@ struct TearCommand : SurgeryCommand {
         timed([&] { return surgery::tear(scene.model, scene.placement, scene.index, steps, options); }, ms);
     io::write_files_atomically(
         encode_result(t.model, placed_with(scene.placement, t.mesh, t.placed), scene.pose.pose, output));
-    Json path = Json::array();
-    for (const Eigen::Vector3d& x : t.path) path.push_back({x.x(), x.y(), x.z()});
-    report(output, ms, scene,
-           {{"mesh", t.mesh},
-            {"new_vertices", t.new_vertices},
-            {"intersection_points", t.intersection_points},
-            {"faces_in", t.faces_in},
-            {"faces_out", t.faces_out},
-            {"faces_split", t.faces_split},
-            {"path", path}},
+    Json fields = Json::parse(io::stats_json(t));
+    fields["mesh"] = t.mesh;
+    report(output, ms, scene, fields,
            "tear " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(t.intersection_points) +
                " path points over " + std::to_string(steps.size() - 1) + " steps, " + std::to_string(t.faces_split) +
                " faces split, " + std::to_string(t.faces_in) + " -> " + std::to_string(t.faces_out) + " faces\n  -> " +
@@ -399,14 +376,10 @@ struct TearCommand : SurgeryCommand {
           return std::vector<surgery::MeshChange>{t.change};
         },
         ms);
-    report(output, ms, scene,
-           {{"mesh", t.change.mesh},
-            {"new_vertices", t.new_vertices},
-            {"intersection_points", t.intersection_points},
-            {"faces_in", t.faces_in},
-            {"faces_out", t.faces_out},
-            {"faces_split", t.faces_split},
-            {"soft", Soft::json(s.report)}},
+    Json fields = Json::parse(io::stats_json(t));
+    fields["mesh"] = t.change.mesh;
+    fields["soft"] = Soft::json(s.report);
+    report(output, ms, scene, fields,
            "tear " + model + " in " + std::to_string(ms) + " ms: " + std::to_string(t.intersection_points) +
                " path points over " + std::to_string(steps.size() - 1) + " steps, " + std::to_string(t.faces_split) +
                " faces split, " + std::to_string(t.faces_in) + " -> " + std::to_string(t.faces_out) + " faces" +

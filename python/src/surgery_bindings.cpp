@@ -4,6 +4,7 @@
 #include "cgamesh/cga/geometry.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_writer.hpp"
+#include "cgamesh/io/surgery_stats.hpp"
 #include "cgamesh/io/text_values.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
@@ -77,50 +78,28 @@ Options tool_options(const std::string& rest, const std::string& predicates) {
   return o;
 }
 
-/// The counts of a cut, as the CLI's --json reports them (faces_out: the caller's).
-py::dict cut_stats(const surgery::CutStats& c) {
-  py::dict d;
-  d["new_vertices"] = c.new_vertices;
-  d["intersection_points"] = c.intersection_points;
-  d["faces_in"] = c.faces_in;
-  d["faces_split"] = c.faces_split;
-  d["cap_triangles"] = c.cap_triangles;
-  d["warnings"] = c.warnings;
+/// The counts of an operation as a dict, with the keys the CLI's --json reports
+/// (io::stats_json), and its warnings.
+template <class Stats>
+py::dict stats_dict(const Stats& s) {
+  py::dict d = py::module_::import("json").attr("loads")(io::stats_json(s));
+  d["warnings"] = s.warnings;
   return d;
 }
 
-/// The counts and path (#P×3 float64) of a tear.
+py::dict cut_stats(const surgery::CutStats& c) { return stats_dict(c); }
+
+/// With the path as #P×3 float64.
 py::dict tear_stats(const surgery::TearStats& t) {
+  py::dict d = stats_dict(t);
   py::array_t<double> path({static_cast<py::ssize_t>(t.path.size()), py::ssize_t{3}});
   for (std::size_t i = 0; i < t.path.size(); ++i)
     for (int c = 0; c < 3; ++c) path.mutable_at(i, c) = t.path[i][c];
-  py::dict d;
-  d["new_vertices"] = t.new_vertices;
-  d["intersection_points"] = t.intersection_points;
-  d["faces_in"] = t.faces_in;
-  d["faces_out"] = t.faces_out;
-  d["faces_split"] = t.faces_split;
   d["path"] = path;
-  d["warnings"] = t.warnings;
   return d;
 }
 
-py::dict drill_stats(const surgery::DrillStats& r) {
-  py::dict d;
-  d["new_vertices"] = r.new_vertices;
-  d["intersection_points"] = r.intersection_points;
-  d["faces_in"] = r.faces_in;
-  d["faces_out"] = r.faces_out;
-  d["faces_removed"] = r.faces_removed;
-  d["faces_affected"] = r.faces_affected;
-  d["refinements"] = r.refinements;
-  d["rims"] = r.rims;
-  d["walls"] = r.walls;
-  d["open_rims"] = r.open_rims;
-  d["wall_triangles"] = r.wall_triangles;
-  d["warnings"] = r.warnings;
-  return d;
-}
+py::dict drill_stats(const surgery::DrillStats& r) { return stats_dict(r); }
 
 const char* kCommonOptions =
     " pose: a Pose (Model.pose()) the tool is placed against, or None for the bind pose; rest: 'exact' or "

@@ -25,6 +25,7 @@
 #include "cgamesh/io/model_info.hpp"
 #include "cgamesh/io/model_loader.hpp"
 #include "cgamesh/io/model_writer.hpp"
+#include "cgamesh/io/surgery_stats.hpp"
 #include "cgamesh/io/text_values.hpp"
 #include "cgamesh/soft/tissue.hpp"
 #include "cgamesh/surgery/cut.hpp"
@@ -213,8 +214,6 @@ void add_edit(cgamesh_pose& pose, const anim::RiggedModel& model, anim::JointEdi
   anim::apply_edits(pose.pose, one);
   pose.request.edits.push_back(e);
 }
-
-nlohmann::ordered_json warnings_json(const std::vector<std::string>& w) { return w; }
 
 cgamesh_change* make_change(std::vector<surgery::MeshChange> changes, nlohmann::ordered_json stats) {
   return new cgamesh_change{std::move(changes), std::move(stats), {}};
@@ -558,12 +557,10 @@ cgamesh_status cgamesh_live_cut(cgamesh_live* live, const double normal[3], doub
     const cga::Vector<double> plane = surgery::cut_plane(vec3(normal, "normal"), d);
     operate(l, change, [&](surgery::LiveModel& m) {
       surgery::LiveCut c = surgery::cut(m, plane);
-      return make_change(std::move(c.changes), {{"new_vertices", c.new_vertices},
-                                                {"intersection_points", c.intersection_points},
-                                                {"faces_in", c.faces_in},
-                                                {"faces_out", c.faces_out},
-                                                {"faces_split", c.faces_split},
-                                                {"warnings", warnings_json(c.warnings)}});
+      nlohmann::ordered_json stats = nlohmann::ordered_json::parse(io::stats_json(c));
+      stats["faces_out"] = c.faces_out;
+      stats["warnings"] = c.warnings;
+      return make_change(std::move(c.changes), std::move(stats));
     });
   });
 }
@@ -582,17 +579,11 @@ cgamesh_status cgamesh_live_tear(cgamesh_live* live, const double* blades, size_
     options.open = open;
     operate(l, change, [&](surgery::LiveModel& m) {
       surgery::LiveTear t = surgery::tear(m, scalpel, options);
-      nlohmann::ordered_json path = nlohmann::ordered_json::array();
-      for (const Eigen::Vector3d& p : t.path) path.push_back({p.x(), p.y(), p.z()});
+      nlohmann::ordered_json stats = nlohmann::ordered_json::parse(io::stats_json(t));
+      stats["warnings"] = t.warnings;
       std::vector<surgery::MeshChange> changes;
       changes.push_back(std::move(t.change));
-      return make_change(std::move(changes), {{"new_vertices", t.new_vertices},
-                                              {"intersection_points", t.intersection_points},
-                                              {"faces_in", t.faces_in},
-                                              {"faces_out", t.faces_out},
-                                              {"faces_split", t.faces_split},
-                                              {"path", path},
-                                              {"warnings", warnings_json(t.warnings)}});
+      return make_change(std::move(changes), std::move(stats));
     });
   });
 }
@@ -606,18 +597,9 @@ cgamesh_status cgamesh_live_drill(cgamesh_live* live, const double tip[3], const
     const Eigen::Vector3d a = vec3(tip, "tip"), b = vec3(base, "base");
     operate(l, change, [&](surgery::LiveModel& m) {
       surgery::LiveDrill r = surgery::drill(m, a, b, radius, options);
-      return make_change(std::move(r.changes), {{"new_vertices", r.new_vertices},
-                                                {"intersection_points", r.intersection_points},
-                                                {"faces_in", r.faces_in},
-                                                {"faces_out", r.faces_out},
-                                                {"faces_removed", r.faces_removed},
-                                                {"faces_affected", r.faces_affected},
-                                                {"refinements", r.refinements},
-                                                {"rims", r.rims},
-                                                {"walls", r.walls},
-                                                {"open_rims", r.open_rims},
-                                                {"wall_triangles", r.wall_triangles},
-                                                {"warnings", warnings_json(r.warnings)}});
+      nlohmann::ordered_json stats = nlohmann::ordered_json::parse(io::stats_json(r));
+      stats["warnings"] = r.warnings;
+      return make_change(std::move(r.changes), std::move(stats));
     });
   });
 }

@@ -12,7 +12,7 @@
 
 #include "../flat_map.hpp"
 #include "gltf_extras_reader.hpp"
-#include "lower_case.hpp"
+#include "cgamesh/io/file_extension.hpp"
 
 namespace cgamesh::io::detail {
 namespace {

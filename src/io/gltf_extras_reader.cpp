@@ -13,7 +13,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "excerpt.hpp"
-#include "lower_case.hpp"
+#include "cgamesh/io/file_extension.hpp"
 
 namespace cgamesh::io::detail {
 namespace {

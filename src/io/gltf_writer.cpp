@@ -23,7 +23,7 @@
 #include "cgamesh/mesh/influences.hpp"
 
 #include "gltf_extras_reader.hpp"
-#include "lower_case.hpp"
+#include "cgamesh/io/file_extension.hpp"
 
 namespace cgamesh::io {
 namespace {
@@ -713,7 +713,7 @@ std::string serialize(const tinygltf::Model& gm, bool binary, bool pretty) {
 
 std::vector<EncodedFile> encode_gltf(const anim::RiggedModel& model, const std::filesystem::path& out,
                                      const GltfWriteOptions& options, std::vector<std::string>* warnings_out) {
-  const std::string ext = detail::lower_extension(out);
+  const std::string ext = lower_extension(out);
   if (ext != ".glb" && ext != ".gltf")
     throw InvalidInputError("write_gltf: unknown extension '" + out.extension().string() + "' of '" + out.string() +
                             "' (expected .glb or .gltf)");

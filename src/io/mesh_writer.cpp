@@ -11,7 +11,7 @@
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/atomic_file.hpp"
 
-#include "lower_case.hpp"
+#include "cgamesh/io/file_extension.hpp"
 
 namespace cgamesh::io {
 namespace {
@@ -174,7 +174,7 @@ std::string make_ply(std::span<const mesh::Mesh> meshes, Rows3 positions, Rows3 
 
 EncodedFile encode_mesh(std::span<const mesh::Mesh> meshes, Rows3 positions, const std::filesystem::path& out,
                         Rows3 normals) {
-  const std::string ext = detail::lower_extension(out);
+  const std::string ext = lower_extension(out);
   if (ext != ".obj" && ext != ".ply")
     invalid("unknown extension '" + out.extension().string() + "' of '" + out.string() + "' (expected .obj or .ply)");
   const std::int64_t vertices = check(meshes, positions, normals);

@@ -33,6 +33,7 @@
 #include "excerpt.hpp"
 #include "file_vertices.hpp"
 #include "gltf_extras_reader.hpp"
+#include "cgamesh/io/file_extension.hpp"
 #include "lower_case.hpp"
 #include "preflight.hpp"
 
@@ -611,7 +612,7 @@ class Loader {
         return texture_of_path_[path] = -1;
       }
       image.bytes = std::move(bytes);
-      const std::string ext = detail::lower_extension(file);
+      const std::string ext = lower_extension(file);
       image.mime_type = ext == ".png" ? "image/png" : ext == ".jpg" || ext == ".jpeg" ? "image/jpeg" : "";
     }
     model_.textures.push_back(std::move(image));

@@ -14,6 +14,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "excerpt.hpp"
+#include "cgamesh/io/file_extension.hpp"
 #include "lower_case.hpp"
 
 namespace cgamesh::io::detail {
