@@ -116,7 +116,9 @@ class Model:
     def save(self, path: Union[str, PathLike[str]], pose: Pose | None = None) -> list[str]: ...
     def pose(self, clip: int | str | None = None, time: float | None = None, blend: str = "format",
              edits: Iterable[Edit] = (),
-             morph_weights: Mapping[str, float] | Mapping[int, Sequence[float]] = {}) -> Pose: ...
+             morph_weights: Mapping[str, float] | Mapping[int, Sequence[float]] = {}) -> Pose:
+        """The pose the CLI's --anim/--time/--blend/--set/--morph choose (anim::choose_pose); a time
+        past the clip's end uses its last pose and warns (UserWarning)."""
     def morph_weights(self, pose: Pose | None = None) -> list[npt.NDArray[np.float32]]:
         """The #targets weights `pose` gives each mesh."""
     @overload

@@ -363,7 +363,8 @@ void add_model(py::module_& m) {
            "'format', 'linear' or 'log'; then edits, each 'JOINT:rotate=AX,AY,AZ,DEG' | 'JOINT:translate=X,Y,Z' | "
            "'JOINT:scale=S' or a dict {'joint': name or index, 'rotate': (ax, ay, az, degrees), 'translate': (x, y, "
            "z), 'scale': s}; then morph_weights, {target name: weight} (every mesh's target of that name) or {mesh "
-           "index: sequence of one weight per target}, over the clip's or the file's weights.")
+           "index: sequence of one weight per target}, over the clip's or the file's weights. A time past the "
+           "clip's end uses its last pose and warns (UserWarning), as the CLI does.")
       .def(
           "morph_weights",
           [](const Model& me, const py::object& pose) {
