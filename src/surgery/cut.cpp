@@ -114,7 +114,7 @@ class Cutter {
       const bool zero = s[0] == 0 || s[1] == 0 || s[2] == 0;
       const bool crossed = std::count(s.begin(), s.end(), 1) > 0 && std::count(s.begin(), s.end(), -1) > 0;
       if (!zero && !crossed) continue;
-      edit.removed_faces.push_back(f);
+      edit.remove_face(f);
       parent_ = f;
       split_face(f);
     }
@@ -129,20 +129,22 @@ class Cutter {
         if (p == 0 || side(x) != 0) return x;
         int* copy = shared.find(static_cast<std::uint64_t>(x));
         if (copy == nullptr) return x;
-        if (*copy < 0) *copy = edit.add_vertex(VertexSource::copy(x), point(x), nv_, -1);
+        if (*copy < 0) *copy = edit.add_vertex({.source = VertexSource::copy(x), .placed = point(x), .side = -1}, nv_);
         return *copy;
       }
       const auto [copy, added] = id_of.try_emplace(directed_key(x, p), -1);
-      if (added) *copy = edit.add_vertex(source(x, p), point(x), nv_, p == 0 ? 1 : -1);
+      if (added)
+        *copy = edit.add_vertex(
+            {.source = source(x, p), .placed = point(x), .side = static_cast<signed char>(p == 0 ? 1 : -1)}, nv_);
       return *copy;
     };
     for (std::size_t p = 0; p < 2; ++p) {
-      for (const Triangle& t : faces_[p]) {
-        const int q = static_cast<int>(p);
-        edit.new_faces.push_back({id(t[0], q), id(t[1], q), id(t[2], q)});
+      const int q = static_cast<int>(p);
+      for (std::size_t j = 0; j < faces_[p].size(); ++j) {
+        const Triangle& t = faces_[p][j];
+        edit.add_face_in({id(t[0], q), id(t[1], q), id(t[2], q)}, parents_[p][j]);
         piece.push_back(static_cast<signed char>(p));
       }
-      edit.new_face_parent.insert(edit.new_face_parent.end(), parents_[p].begin(), parents_[p].end());
     }
     stats.intersection_points += static_cast<int>(points_.size());
     stats.faces_split += faces_split_;
@@ -545,7 +547,7 @@ LiveCut cut(LiveModel& live, const cga::Vector<double>& plane, const CutOptions&
     throw TopologyError(std::string("cut: the plane only touches the model (no face on its ") +
                         (reached[0] ? "negative" : "positive") + " side there)");
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    if (edits[i].removed_faces.empty()) continue;
+    if (edits[i].removed_faces().empty()) continue;
     AppliedEdit applied = live.apply(i, edits[i], options.rest);
     out.new_vertices += static_cast<int>(applied.change.origins.size());
     out.changes.push_back(std::move(applied.change));

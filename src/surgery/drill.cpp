@@ -53,7 +53,6 @@ double axis_hit(const Placement& placement, const SurfaceIndex& index, const Cyl
   return best;
 }
 
-
 /// @throws TopologyError when the drill meets no face of any mesh; the message says when it
 ///         stops short of the surface (its axis meets it beyond the tip) or points away from it.
 void require_hit(const DrillStats& stats, const Placement& placement, const SurfaceIndex& index, const Cylinder& c) {
@@ -64,8 +63,8 @@ void require_hit(const DrillStats& stats, const Placement& placement, const Surf
                         " beyond the tip (move the tip further along the axis)");
   const double behind = axis_hit(placement, index, c, false);
   if (std::isfinite(behind))
-    throw TopologyError("drill: the drill points away from the model: its axis meets the surface " + number_text(behind) +
-                        " behind the base (swap --tip and --base, or move them)");
+    throw TopologyError("drill: the drill points away from the model: its axis meets the surface " +
+                        number_text(behind) + " behind the base (swap --tip and --base, or move them)");
   throw TopologyError("drill: the drill misses the model (no face meets the cylinder between its base and tip)");
 }
 
@@ -81,7 +80,7 @@ void require_in_reach(const SurfaceIndex& index, const Eigen::Vector3d& tip, con
 /// Whether an edit changes its mesh: a face that a disk inside it left as it was is re-emitted
 /// unchanged, with no new vertex.
 bool changes(const LocalEdit& edit) {
-  return !edit.new_vertices.empty() || edit.new_faces.size() != edit.removed_faces.size();
+  return !edit.new_vertices().empty() || edit.new_faces().size() != edit.removed_faces().size();
 }
 
 /// @throws TopologyError when none of the edits changes its mesh.
@@ -122,7 +121,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
                               : -1;
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
-    if (edits[i].removed_faces.empty()) {  // not reached: copied as it is
+    if (edits[i].removed_faces().empty()) {  // not reached: copied as it is
       out.model.meshes.push_back(m);
       out.source_mesh.push_back(static_cast<int>(i));
       std::vector<mesh::VertexSource> identity(static_cast<std::size_t>(m.vertex_count()));
@@ -132,7 +131,7 @@ ModelDrill drill(const anim::RiggedModel& model, const Placement& placement, con
       out.faces_out += static_cast<int>(m.face_count());
       continue;
     }
-    out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
+    out.faces_removed += static_cast<int>(edits[i].removed_faces().size());
     EditedMesh e = apply_edit(m, placement.positions[i], placement.palettes[i], edits[i], options.rest, cut_surface);
     out.new_vertices += blended_count(e.origins);
     if (e.mesh.face_count() == 0) {
@@ -163,14 +162,14 @@ LiveDrill drill(LiveModel& live, const Eigen::Vector3d& tip, const Eigen::Vector
     if (candidates[i].empty()) continue;
     Driller(model.meshes[i], live.placement().positions[i], live.index().meshes[i], c, options)
         .run(candidates[i], edits[i], out);
-    out.faces_removed += static_cast<int>(edits[i].removed_faces.size());
+    out.faces_removed += static_cast<int>(edits[i].removed_faces().size());
   }
   require_hit(out, live.placement(), live.index(), c);
   std::vector<bool> changed(edits.size());
   std::transform(edits.begin(), edits.end(), changed.begin(), changes);
   require_change(changed, out);
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
-    if (edits[i].removed_faces.empty()) continue;
+    if (edits[i].removed_faces().empty()) continue;
     AppliedEdit applied = live.apply(i, edits[i], options.rest);
     out.new_vertices += blended_count(applied.change.origins);
     if (model.meshes[i].face_count() == 0)

@@ -869,8 +869,7 @@ std::vector<char> Driller::remove_changed_faces(const Pass& pass, LocalEdit& edi
   std::vector<char> affected(faces_.size(), 0);
   for (int s : pass.affected) affected[static_cast<std::size_t>(s)] = 1;
   for (std::size_t s = 0; s < faces_.size(); ++s)
-    if (faces_[s].original && (!faces_[s].alive || affected[s] != 0)) edit.removed_faces.push_back(faces_[s].origin);
-  std::sort(edit.removed_faces.begin(), edit.removed_faces.end());
+    if (faces_[s].original && (!faces_[s].alive || affected[s] != 0)) edit.remove_face(faces_[s].origin);
   return affected;
 }
 
@@ -879,11 +878,8 @@ void Driller::reserve_output(const Pass& pass, const Walls& walls, LocalEdit& ed
   const std::size_t fresh =
       vertices_.size() - static_cast<std::size_t>(std::count_if(vertices_.begin(), vertices_.end(),
                                                                 [](const Vertex& v) { return v.old >= 0; }));
-  edit.new_vertices.reserve(edit.new_vertices.size() + fresh);
-  edit.new_placed.reserve(edit.new_placed.size() + fresh);
-  edit.new_faces.reserve(edit.new_faces.size() + faces_.size() + pass.corners.size() - 2 * pass.polygons.size() +
-                         static_cast<std::size_t>(walls.size()));
-  edit.new_face_origin.reserve(edit.new_faces.capacity());
+  edit.reserve(fresh,
+               faces_.size() + pass.corners.size() - 2 * pass.polygons.size() + static_cast<std::size_t>(walls.size()));
 }
 
 /// The faces refinement made that the drill does not meet.
@@ -928,20 +924,22 @@ void Driller::emit_walls(const Walls& walls, LocalEdit& edit) const {
     for (std::size_t x = 0; x < copy.size(); ++x) {
       if (copy[x] < 0) continue;
       const Vertex& v = vertices_[x];
-      copy[x] = edit.add_vertex(v.old >= 0 ? VertexSource::copy(v.old) : v.source, v.placed, nv_, 0,
-                                normal[x].normalized(), v.off_surface);
+      copy[x] = edit.add_vertex({.source = v.old >= 0 ? VertexSource::copy(v.old) : v.source,
+                                 .placed = v.placed,
+                                 .normal = normal[x].normalized(),
+                                 .off_surface = v.off_surface},
+                                nv_);
     }
     for (const Triangle& t : *surface) {
-      edit.new_faces.push_back({copy[static_cast<std::size_t>(t[0])], copy[static_cast<std::size_t>(t[1])],
-                                copy[static_cast<std::size_t>(t[2])]});
-      edit.new_face_origin.push_back(LocalEdit::kCutSurface);
+      edit.add_face_from({copy[static_cast<std::size_t>(t[0])], copy[static_cast<std::size_t>(t[1])],
+                          copy[static_cast<std::size_t>(t[2])]},
+                         LocalEdit::kCutSurface);
     }
   }
 }
 
 void Driller::emit_triangle(const Triangle& t, int origin, LocalEdit& edit, std::vector<int>& ids) const {
-  edit.new_faces.push_back({extended(t[0], edit, ids), extended(t[1], edit, ids), extended(t[2], edit, ids)});
-  edit.new_face_origin.push_back(origin);
+  edit.add_face_from({extended(t[0], edit, ids), extended(t[1], edit, ids), extended(t[2], edit, ids)}, origin);
 }
 
 /// The extended id of region vertex x; `ids` holds those of the new vertices (or −1).
@@ -949,7 +947,7 @@ int Driller::extended(int x, LocalEdit& edit, std::vector<int>& ids) const {
   const Vertex& v = vertex(x);
   if (v.old >= 0) return v.old;
   int& id = ids[static_cast<std::size_t>(x)];
-  if (id < 0) id = edit.add_vertex(v.source, v.placed, nv_);
+  if (id < 0) id = edit.add_vertex({.source = v.source, .placed = v.placed}, nv_);
   return id;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -248,11 +249,10 @@ SlotPlan plan_slots(const mesh::Mesh& m, const RowMatrixXf<3>& placed, const std
 /// Where the new faces go when each lies in a removed face (its parent): the first into its
 /// parent's slot, the others appended in the parent's BVH leaf; the BVH boxes barely grow.
 /// `rank` maps each removed face to its index in `removed`.
-SlotPlan plan_slots_by_parent(const std::vector<int>& removed, const std::vector<int>& parent,
-                              const FlatMap<int>& rank) {
+SlotPlan plan_slots_by_parent(const std::vector<int>& removed, std::span<const int> parent, const FlatMap<int>& rank) {
   SlotPlan plan;
   plan.slot.assign(parent.size(), -1);
-  plan.near = parent;
+  plan.near.assign(parent.begin(), parent.end());
   std::vector<char> taken(removed.size(), 0);
   for (std::size_t t = 0; t < parent.size(); ++t) {
     const auto r = static_cast<std::size_t>(*rank.find(static_cast<std::uint64_t>(parent[t])));
@@ -282,13 +282,12 @@ AppliedEdit LiveModel::apply(std::size_t i, const LocalEdit& edit, RestPosition 
   for (std::size_t r = 0; r < removed.size(); ++r)
     rank.try_emplace(static_cast<std::uint64_t>(removed[r]), static_cast<int>(r));
   const auto is_removed = [&](int f) { return rank.find(static_cast<std::uint64_t>(f)) != nullptr; };
-  if (!edit.new_face_parent.empty() &&
-      (edit.new_face_parent.size() != edit.new_faces.size() ||
-       !std::all_of(edit.new_face_parent.begin(), edit.new_face_parent.end(), is_removed)))
+  const std::span<const int> parents = edit.new_face_parents();
+  if (!std::all_of(parents.begin(), parents.end(), is_removed))
     throw InvalidInputError("surgery: a new face's parent is not a removed face");
   // The new faces' materials; the mesh gets a face material column (once) when they differ.
   const int cut_surface = has_cut_surface(edit) ? mesh::cut_surface_material_index(model_.materials) : -1;
-  std::vector<int> materials(edit.new_faces.size());
+  std::vector<int> materials(edit.new_faces().size());
   for (std::size_t t = 0; t < materials.size(); ++t) materials[t] = new_face_material(m, edit, t, cut_surface);
   if (m.face_materials.rows() == 0 &&
       std::any_of(materials.begin(), materials.end(), [&](int x) { return x != m.material; }))
@@ -301,28 +300,28 @@ AppliedEdit LiveModel::apply(std::size_t i, const LocalEdit& edit, RestPosition 
   out.change.removed_faces = static_cast<int>(removed.size());
 
   // Vertices: the used new ones appended, blended from their sources (section 4.3).
-  out.fresh.assign(edit.new_vertices.size(), -1);
-  for (const auto& t : edit.new_faces)
+  out.fresh.assign(edit.new_vertices().size(), -1);
+  for (const auto& t : edit.new_faces())
     for (const int x : t)
       if (x >= nv) out.fresh[static_cast<std::size_t>(x - nv)] = 0;
   std::vector<signed char> fresh_side;
   for (std::size_t k = 0; k < out.fresh.size(); ++k) {
     if (out.fresh[k] < 0) continue;
     out.fresh[k] = nv + static_cast<int>(out.change.origins.size());
-    out.change.origins.push_back(edit.new_vertices[k]);
-    fresh_side.push_back(edit.new_side.empty() ? 0 : edit.new_side[k]);
+    out.change.origins.push_back(edit.new_vertices()[k].source);
+    fresh_side.push_back(edit.new_vertices()[k].side);
   }
   mesh::append_resampled(m, out.change.origins);
   placed.conservativeResize(m.vertex_count(), Eigen::NoChange);
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
-    if (out.fresh[k] >= 0) placed.row(out.fresh[k]) = edit.new_placed[k].cast<float>().transpose();
+    if (out.fresh[k] >= 0) placed.row(out.fresh[k]) = edit.new_vertices()[k].placed.cast<float>().transpose();
   std::vector<char> off_surface;
   off_surface.reserve(out.change.origins.size());
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
-    if (out.fresh[k] >= 0) off_surface.push_back(edit.new_off_surface[k]);
+    if (out.fresh[k] >= 0) off_surface.push_back(edit.new_vertices()[k].off_surface);
   solve_rest_positions(m, placement_.palettes[i], placed, out.change.origins, nv, rest, off_surface);
   for (std::size_t k = 0; k < out.fresh.size(); ++k)
-    if (out.fresh[k] >= 0) set_placed_normal(m, placement_.palettes[i], out.fresh[k], edit.new_normal[k]);
+    if (out.fresh[k] >= 0) set_placed_normal(m, placement_.palettes[i], out.fresh[k], edit.new_vertices()[k].normal);
 
   // Adjacency entries of untouched faces that point into the removed ones: found again below.
   std::vector<std::pair<int, int>> open_entries;
@@ -338,11 +337,11 @@ AppliedEdit LiveModel::apply(std::size_t i, const LocalEdit& edit, RestPosition 
   // Faces: each new one into the slot of a removed face near it, or appended next to it; the
   // slots left over are filled by the last faces (largest slot first, so a face moved is never
   // one still to be removed).
-  std::vector<std::array<int, 3>> faces(edit.new_faces);
+  std::vector<std::array<int, 3>> faces(edit.new_faces().begin(), edit.new_faces().end());
   for (auto& t : faces)
     for (int& x : t) x = out.vertex_of(x);
-  const SlotPlan plan = edit.new_face_parent.empty() ? plan_slots(m, placed, removed, faces)
-                                                     : plan_slots_by_parent(removed, edit.new_face_parent, rank);
+  const SlotPlan plan =
+      parents.empty() ? plan_slots(m, placed, removed, faces) : plan_slots_by_parent(removed, parents, rank);
   FaceSlots slots(m, placed, index);
   std::vector<int>& ids = out.change.new_faces;
   ids.assign(faces.size(), -1);

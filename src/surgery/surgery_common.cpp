@@ -97,7 +97,6 @@ void require_placement_fits(const anim::RiggedModel& model, const Placement& pla
                               std::to_string(placement.positions[i].rows()) + " placed positions");
 }
 
-
 PlacedBox placed_box(const Placement& placement) {
   PlacedBox b;
   for (const auto& p : placement.positions)
@@ -158,41 +157,33 @@ Matrix stack_rows(const Matrix& old, const std::vector<int>& kept, bool all, con
 
 std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& edit) {
   const auto nf = old.face_count();
-  const int total = static_cast<int>(old.vertex_count() + static_cast<Eigen::Index>(edit.new_vertices.size()));
-  std::vector<int> removed = edit.removed_faces;
+  const int total = static_cast<int>(old.vertex_count() + static_cast<Eigen::Index>(edit.new_vertices().size()));
+  std::vector<int> removed(edit.removed_faces().begin(), edit.removed_faces().end());
   std::sort(removed.begin(), removed.end());
   for (std::size_t i = 0; i < removed.size(); ++i)
     if (removed[i] < 0 || removed[i] >= nf || (i > 0 && removed[i] == removed[i - 1]))
       throw InvalidInputError("surgery: removed face " + std::to_string(removed[i]) + " out of range or repeated");
-  for (const auto& t : edit.new_faces)
+  for (const auto& t : edit.new_faces())
     for (int x : t)
       if (x < 0 || x >= total)
         throw InvalidInputError("surgery: new face vertex " + std::to_string(x) + " out of range");
-  if (edit.new_placed.size() != edit.new_vertices.size() || edit.new_normal.size() != edit.new_vertices.size() ||
-      edit.new_off_surface.size() != edit.new_vertices.size())
-    throw InvalidInputError("surgery: the edit has a placed position for " + std::to_string(edit.new_placed.size()) +
-                            " of its " + std::to_string(edit.new_vertices.size()) + " new vertices");
-  if (!edit.new_face_origin.empty() && edit.new_face_origin.size() != edit.new_faces.size())
-    throw InvalidInputError("surgery: the edit has a material origin for " +
-                            std::to_string(edit.new_face_origin.size()) + " of its " +
-                            std::to_string(edit.new_faces.size()) + " new faces");
-  for (const int f : edit.new_face_origin)
+  for (const int f : edit.new_face_origins())
     if (f != LocalEdit::kCutSurface && (f < 0 || f >= nf))
       throw InvalidInputError("surgery: a new face's material origin " + std::to_string(f) + " is not an old face");
   return removed;
 }
 
 bool has_cut_surface(const LocalEdit& edit) {
-  return std::find(edit.new_face_origin.begin(), edit.new_face_origin.end(), LocalEdit::kCutSurface) !=
-         edit.new_face_origin.end();
+  const std::span<const int> origins = edit.new_face_origins();
+  return std::find(origins.begin(), origins.end(), LocalEdit::kCutSurface) != origins.end();
 }
 
 int new_face_material(const mesh::Mesh& old, const LocalEdit& edit, std::size_t t, int cut_surface) {
-  if (!edit.new_face_origin.empty()) {
-    const int f = edit.new_face_origin[t];
+  if (!edit.new_face_origins().empty()) {
+    const int f = edit.new_face_origins()[t];
     return f == LocalEdit::kCutSurface ? cut_surface : old.face_material(f);
   }
-  return edit.new_face_parent.empty() ? old.material : old.face_material(edit.new_face_parent[t]);
+  return edit.new_face_parents().empty() ? old.material : old.face_material(edit.new_face_parents()[t]);
 }
 
 void solve_rest_positions(mesh::Mesh& m, const anim::SkinningPalette& palette, const mesh::RowMatrixXf<3>& placed,
@@ -235,10 +226,10 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
                       const LocalEdit& edit, RestPosition rest, int cut_surface) {
   const auto nv = static_cast<int>(old.vertex_count());
   const auto nf = old.face_count();
-  const int total = nv + static_cast<int>(edit.new_vertices.size());
+  const int total = nv + static_cast<int>(edit.new_vertices().size());
   const std::vector<int> removed = checked_removed_faces(old, edit);
   // Kept faces in runs between removed ones (block copies), then the new faces.
-  mesh::Faces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces.size()),
+  mesh::Faces faces(nf - static_cast<Eigen::Index>(removed.size()) + static_cast<Eigen::Index>(edit.new_faces().size()),
                     3);
   Eigen::Index row = 0, from = 0;
   const auto copy_run = [&](Eigen::Index to) {
@@ -250,9 +241,9 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
     from = f + 1;
   }
   copy_run(nf);
-  for (const auto& t : edit.new_faces) faces.row(row++) << t[0], t[1], t[2];
+  for (const auto& t : edit.new_faces()) faces.row(row++) << t[0], t[1], t[2];
   // Materials along the same runs, where the faces' differ.
-  std::vector<int> fresh_materials(edit.new_faces.size());
+  std::vector<int> fresh_materials(edit.new_faces().size());
   for (std::size_t t = 0; t < fresh_materials.size(); ++t)
     fresh_materials[t] = new_face_material(old, edit, t, cut_surface);
   mesh::RowArray<int, 1> face_materials;
@@ -291,7 +282,7 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
     if (remap[static_cast<std::size_t>(x)] == 0) {
       remap[static_cast<std::size_t>(x)] = static_cast<int>(kept.size() + fresh.size());
       fresh.push_back(x);
-      fresh_sources.push_back(edit.new_vertices[static_cast<std::size_t>(x - nv)]);
+      fresh_sources.push_back(edit.new_vertices()[static_cast<std::size_t>(x - nv)].source);
       out.origins.push_back(fresh_sources.back());
     }
   int* out_ids = faces.data();
@@ -324,16 +315,16 @@ EditedMesh apply_edit(const mesh::Mesh& old, const mesh::RowMatrixXf<3>& placed,
   mesh::RowMatrixXf<3> fresh_placed(static_cast<Eigen::Index>(fresh.size()), 3);
   for (std::size_t i = 0; i < fresh.size(); ++i)
     fresh_placed.row(static_cast<Eigen::Index>(i)) =
-        edit.new_placed[static_cast<std::size_t>(fresh[i] - nv)].cast<float>().transpose();
+        edit.new_vertices()[static_cast<std::size_t>(fresh[i] - nv)].placed.cast<float>().transpose();
   out.placed = stack_rows(placed, kept, all, fresh_placed);
   std::vector<char> off_surface(fresh.size());
   for (std::size_t i = 0; i < fresh.size(); ++i)
-    off_surface[i] = edit.new_off_surface[static_cast<std::size_t>(fresh[i] - nv)];
+    off_surface[i] = edit.new_vertices()[static_cast<std::size_t>(fresh[i] - nv)].off_surface;
   solve_rest_positions(m, palette, out.placed, std::span(out.origins).subspan(kept.size()),
                        static_cast<Eigen::Index>(kept.size()), rest, off_surface);
   for (std::size_t i = 0; i < fresh.size(); ++i)
     set_placed_normal(m, palette, static_cast<Eigen::Index>(kept.size() + i),
-                      edit.new_normal[static_cast<std::size_t>(fresh[i] - nv)]);
+                      edit.new_vertices()[static_cast<std::size_t>(fresh[i] - nv)].normal);
   out.vertex_of = std::move(remap);
   return out;
 }

@@ -88,15 +88,14 @@ struct EditedMesh {
 
 /// The removed faces of `edit`, sorted.
 /// @throws InvalidInputError for a removed face or a new face's vertex out of range, a face
-///         removed twice, a new vertex without a placed position, or new_face_origin of
-///         another size than new_faces or with an entry that is neither an old face nor
+///         removed twice, or a new face's origin that is neither an old face nor
 ///         LocalEdit::kCutSurface.
 [[nodiscard]] std::vector<int> checked_removed_faces(const mesh::Mesh& old, const LocalEdit& edit);
 
 /// Whether some new face of `edit` gets the cut-surface material.
 [[nodiscard]] bool has_cut_surface(const LocalEdit& edit);
 
-/// The material of new face t of `edit` on `old` (LocalEdit::new_face_origin), with
+/// The material of new face t of `edit` on `old` (LocalEdit::new_face_origins), with
 /// `cut_surface` the index of the cut-surface material.
 [[nodiscard]] int new_face_material(const mesh::Mesh& old, const LocalEdit& edit, std::size_t t, int cut_surface);
 

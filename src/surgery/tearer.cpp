@@ -53,11 +53,11 @@ std::vector<PathPoint> Tearer::trace(const std::vector<PathPoint>& entries, std:
 // @throws TopologyError when that changes nothing (no face split, no vertex added, no opening).
 int Tearer::prepare(const std::vector<PathPoint>& path) {
   retriangulate(path);
-  const int faces_split = static_cast<int>(edit_.removed_faces.size());
+  const int faces_split = static_cast<int>(edit_.removed_faces().size());
   duplicate(path);
   const bool opens =
       options_.open > 0 && std::any_of(copies_.begin(), copies_.end(), [](const auto& c) { return !c.empty(); });
-  if (faces_split == 0 && edit_.new_vertices.empty() && !opens)
+  if (faces_split == 0 && edit_.new_vertices().empty() && !opens)
     throw TopologyError("tear: the path runs along edges where mesh '" + mesh_.name +
                         "' is split already (its faces there share no vertices), so the tear changes nothing; "
                         "give an opening width to move the two sides apart");
@@ -309,12 +309,11 @@ void Tearer::split_face(const std::vector<PathPoint>& path, int f, const FaceWor
     throw TopologyError("tear: the tear path crosses itself in face " + std::to_string(f) + " of mesh '" + mesh_.name +
                         "'");
   }
-  edit_.removed_faces.push_back(f);
-  for (const Triangle& t : tris) {
-    edit_.new_faces.push_back({ids[static_cast<std::size_t>(t[0])], ids[static_cast<std::size_t>(t[1])],
-                               ids[static_cast<std::size_t>(t[2])]});
-    edit_.new_face_parent.push_back(f);
-  }
+  edit_.remove_face(f);
+  for (const Triangle& t : tris)
+    edit_.add_face_in(
+        {ids[static_cast<std::size_t>(t[0])], ids[static_cast<std::size_t>(t[1])], ids[static_cast<std::size_t>(t[2])]},
+        f);
 }
 
 // The faces on either side of the path (connected around a vertex through edges that are not
@@ -341,23 +340,22 @@ Tearer::PathEdges Tearer::path_edges(const std::vector<PathPoint>& path) const {
 // Those of the inner path points only: the two ends are not split.
 void Tearer::free_fans(const std::vector<PathPoint>& path) {
   const int n = static_cast<int>(path.size());
-  std::unordered_set<int> removed(edit_.removed_faces.begin(), edit_.removed_faces.end());
+  std::unordered_set<int> removed(edit_.removed_faces().begin(), edit_.removed_faces().end());
   for (int i = 1; i + 1 < n; ++i) {
     const PathPoint& p = path[static_cast<std::size_t>(i)];
     if (p.kind != PathPoint::Kind::vertex) continue;
     for (const int g : fan(p.face, p.corner)) {
       if (!removed.insert(g).second) continue;
-      edit_.removed_faces.push_back(g);
-      edit_.new_faces.push_back({corner(g, 0), corner(g, 1), corner(g, 2)});
-      edit_.new_face_parent.push_back(g);
+      edit_.remove_face(g);
+      edit_.add_face_in({corner(g, 0), corner(g, 1), corner(g, 2)}, g);
     }
   }
 }
 
 std::unordered_map<long long, std::vector<int>> Tearer::faces_by_key() const {
   std::unordered_map<long long, std::vector<int>> out;
-  for (int t = 0; t < static_cast<int>(edit_.new_faces.size()); ++t)
-    for (const int x : edit_.new_faces[static_cast<std::size_t>(t)]) out[key(x)].push_back(t);
+  for (int t = 0; t < static_cast<int>(edit_.new_faces().size()); ++t)
+    for (const int x : edit_.new_faces()[static_cast<std::size_t>(t)]) out[key(x)].push_back(t);
   return out;
 }
 
@@ -373,9 +371,11 @@ void Tearer::split_point(const std::vector<PathPoint>& path, int i, std::vector<
   const std::vector<int> sign = side_signs(plane, k, faces, group, groups);
   for (const auto& [gx, x] : copy_for_groups(i, k, faces, group, sign)) {
     copies_[static_cast<std::size_t>(i)].push_back({x, sign[static_cast<std::size_t>(gx.first)]});
-    if (options_.own_side_influences && x >= nv_)
-      restrict_influences(edit_.new_vertices[static_cast<std::size_t>(x - nv_)], plane,
-                          sign[static_cast<std::size_t>(gx.first)]);
+    if (options_.own_side_influences && x >= nv_) {
+      const auto k = static_cast<std::size_t>(x - nv_);
+      edit_.set_source(
+          k, restricted_influences(edit_.new_vertices()[k].source, plane, sign[static_cast<std::size_t>(gx.first)]));
+    }
   }
 }
 
@@ -384,7 +384,7 @@ std::vector<int> Tearer::side_groups(long long k, const std::vector<int>& faces,
   UnionFind sets(faces.size());
   std::unordered_map<long long, int> across;  // other end of an edge at the point -> a face
   for (std::size_t a = 0; a < faces.size(); ++a) {
-    const Triangle& t = edit_.new_faces[static_cast<std::size_t>(faces[a])];
+    const Triangle& t = edit_.new_faces()[static_cast<std::size_t>(faces[a])];
     for (const int x : t) {
       const long long o = key(x);
       if (o == k || on_path.contains(std::minmax(k, o))) continue;
@@ -406,7 +406,7 @@ std::vector<int> Tearer::side_signs(const StepPlane& plane, long long k, const s
                                     const std::vector<int>& group, int groups) const {
   std::vector<double> side(static_cast<std::size_t>(groups), 0.0);
   for (std::size_t a = 0; a < faces.size(); ++a)
-    for (const int x : edit_.new_faces[static_cast<std::size_t>(faces[a])])
+    for (const int x : edit_.new_faces()[static_cast<std::size_t>(faces[a])])
       if (key(x) != k) side[static_cast<std::size_t>(group[a])] += signed_offset(plane, x);
   std::vector<int> sign(side.size());
   for (std::size_t g = 0; g < side.size(); ++g) sign[g] = side[g] > 0 ? 1 : side[g] < 0 ? -1 : (g == 0 ? 1 : -1);
@@ -422,23 +422,27 @@ std::map<std::pair<int, int>, int> Tearer::copy_for_groups(int i, long long k, c
                                                            const std::vector<int>& sign) {
   std::map<int, std::set<int>> groups_of;  // extended id -> the groups using it
   for (std::size_t a = 0; a < faces.size(); ++a)
-    for (const int x : edit_.new_faces[static_cast<std::size_t>(faces[a])])
+    for (const int x : edit_.new_faces()[static_cast<std::size_t>(faces[a])])
       if (key(x) == k) groups_of[x].insert(group[a]);
   std::map<std::pair<int, int>, int> copy_of;
   for (std::size_t a = 0; a < faces.size(); ++a) {
     const int g = group[a];
-    for (int& x : edit_.new_faces[static_cast<std::size_t>(faces[a])]) {
+    const auto face = static_cast<std::size_t>(faces[a]);
+    for (std::size_t c = 0; c < 3; ++c) {
+      const int x = edit_.new_faces()[face][c];
       if (key(x) != k) continue;
       const auto [it, added] = copy_of.try_emplace({g, x}, x);
       const std::set<int>& users = groups_of[x];
       if (added && users.size() > 1 && g != *users.begin()) {
-        const VertexSource s = x < nv_ ? VertexSource::copy(x) : edit_.new_vertices[static_cast<std::size_t>(x - nv_)];
-        const Eigen::Vector3d y =
-            x < nv_ ? placed_.row(x).cast<double>().transpose() : edit_.new_placed[static_cast<std::size_t>(x - nv_)];
-        it->second = edit_.add_vertex(s, y, nv_, static_cast<signed char>(sign[static_cast<std::size_t>(g)]));
+        const VertexSource s =
+            x < nv_ ? VertexSource::copy(x) : edit_.new_vertices()[static_cast<std::size_t>(x - nv_)].source;
+        const Eigen::Vector3d y = x < nv_ ? placed_.row(x).cast<double>().transpose()
+                                          : edit_.new_vertices()[static_cast<std::size_t>(x - nv_)].placed;
+        it->second = edit_.add_vertex(
+            {.source = s, .placed = y, .side = static_cast<signed char>(sign[static_cast<std::size_t>(g)])}, nv_);
         point_of_new_.push_back(i);
       }
-      x = it->second;
+      edit_.set_corner(face, c, it->second);
     }
   }
   return copy_of;
@@ -508,7 +512,7 @@ double Tearer::distance(const StepPlane& p, int v) const {
 }
 
 double Tearer::signed_offset(const StepPlane& plane, int x) const {
-  const Eigen::Vector3d y = x < nv_ ? position(x) : edit_.new_placed[static_cast<std::size_t>(x - nv_)];
+  const Eigen::Vector3d y = x < nv_ ? position(x) : edit_.new_vertices()[static_cast<std::size_t>(x - nv_)].placed;
   return plane.n.dot(y) - plane.d;
 }
 
@@ -592,7 +596,7 @@ int Tearer::new_vertex(const PathPoint& p, int i, int f) {
   }
   const auto [it, added] = vertex_of_point_.try_emplace(key, -1);
   if (added) {
-    it->second = edit_.add_vertex(s, p.x, nv_);
+    it->second = edit_.add_vertex({.source = s, .placed = p.x}, nv_);
     point_of_new_.push_back(i);
   }
   return it->second;
@@ -607,11 +611,12 @@ long long Tearer::point_key(const std::vector<PathPoint>& path, int i) const {
   return p.kind == PathPoint::Kind::vertex ? weld(corner(p.face, p.corner)) : -1 - static_cast<long long>(i);
 }
 
-void Tearer::restrict_influences(VertexSource& s, const StepPlane& plane, int sign) const {
+VertexSource Tearer::restricted_influences(VertexSource s, const StepPlane& plane, int sign) const {
   std::uint8_t mask = 0;
   for (int k = 0; k < s.count(); ++k)
     if (distance(plane, s.vertex[static_cast<std::size_t>(k)]) * sign > 0) mask |= static_cast<std::uint8_t>(1u << k);
   if (mask != 0) s.influence_mask = mask;
+  return s;
 }
 
 }  // namespace cgamesh::surgery::detail

@@ -190,8 +190,8 @@ class Tearer {
   [[nodiscard]] long long key(int x) const;
   /// key() of path point i.
   [[nodiscard]] long long point_key(const std::vector<PathPoint>& path, int i) const;
-  /// Keeps only the influences of a copy's source vertices on its own side of Π.
-  void restrict_influences(mesh::VertexSource& s, const StepPlane& plane, int sign) const;
+  /// `s` keeping only the influences of its source vertices on the copy's own side of Π.
+  [[nodiscard]] mesh::VertexSource restricted_influences(mesh::VertexSource s, const StepPlane& plane, int sign) const;
 
   const mesh::Mesh& mesh_;
   const mesh::RowMatrixXf<3>& placed_;

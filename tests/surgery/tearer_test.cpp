@@ -212,8 +212,8 @@ TEST(TearerSteps, SideGroupsPutFacesOnOppositeSidesOfThePathApart) {
       std::map<int, int> group_of_side;  // side of Π (±1) -> the group of its faces
       for (std::size_t a = 0; a < faces.size(); ++a) {
         Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-        for (const int x : t.edit().new_faces[static_cast<std::size_t>(faces[a])])
-          centroid += x < nv ? g.vertex(x) : t.edit().new_placed[static_cast<std::size_t>(x - nv)];
+        for (const int x : t.edit().new_faces()[static_cast<std::size_t>(faces[a])])
+          centroid += x < nv ? g.vertex(x) : t.edit().new_vertices()[static_cast<std::size_t>(x - nv)].placed;
         const double side = offset(plane, centroid / 3);
         ASSERT_GT(std::abs(side), 1e-3) << "a face around point " << i << " lies on the path";
         const auto [it, added] = group_of_side.try_emplace(side > 0 ? 1 : -1, group[a]);

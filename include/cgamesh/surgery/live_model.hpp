@@ -24,12 +24,12 @@ namespace cgamesh::surgery {
 /// - Faces: `new_faces` holds the ids of the new triangles; untouched faces keep their ids,
 ///   except those in `moved_faces` that filled the slot of a removed face.
 struct MeshChange {
-  int mesh = -1;                            ///< index into model().meshes
-  int first_new_vertex = 0;                 ///< #V before the operation
-  std::vector<mesh::VertexSource> origins;  ///< per new vertex: its origin over the vertices before
-  std::vector<int> new_faces;               ///< ids of the new faces in the edited mesh
+  int mesh = -1;                                ///< index into model().meshes
+  int first_new_vertex = 0;                     ///< #V before the operation
+  std::vector<mesh::VertexSource> origins;      ///< per new vertex: its origin over the vertices before
+  std::vector<int> new_faces;                   ///< ids of the new faces in the edited mesh
   std::vector<std::array<int, 2>> moved_faces;  ///< (id before, id after) of untouched faces moved
-  int removed_faces = 0;                    ///< faces of the mesh before that are gone
+  int removed_faces = 0;                        ///< faces of the mesh before that are gone
 };
 
 /// The result of LiveModel::apply: what changed, and where the edit's new vertices went.
@@ -77,7 +77,7 @@ class LiveModel {
   /// vertices are appended with rest positions by `rest` and skin weights from their origins
   /// (section 4.3), and the mesh's SurfaceIndex follows (welds, adjacency, BVH) in O(edit): as a
   /// fresh build would give it, except that copies for different sides of a separation stay
-  /// apart. New faces get their materials by edit.new_face_origin (the cut-surface material is
+  /// apart. New faces get their materials by edit.new_face_origins() (the cut-surface material is
   /// added to model().materials when first used); the mesh gets Mesh::face_materials (one
   /// O(F) fill) when its faces' materials first differ.
   /// @param[in] i       index into model().meshes
