@@ -136,7 +136,7 @@ void BM_PaletteCesiumMan(benchmark::State& state) {
   for (auto _ : state) {
     const anim::SkinningPalette palette =
         anim::make_palette(s.model.meshes[0], s.gv, s.gm, static_cast<anim::SkinningMode>(state.range(0)));
-    benchmark::DoNotOptimize(palette.packed.data());
+    benchmark::DoNotOptimize(palette);
   }
 }
 BENCHMARK(BM_PaletteCesiumMan)->DenseRange(0, 3)->ArgName("mode");

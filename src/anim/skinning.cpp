@@ -14,6 +14,7 @@
 #include "cgamesh/errors.hpp"
 
 #include "../parallel_for.hpp"
+#include "packed_palette.hpp"
 #include "polar.hpp"
 #include "skinning_blocks.hpp"
 
@@ -150,7 +151,8 @@ void skin_blended_normals(const Mesh& mesh, const RestRows& rest, std::span<cons
                           Eigen::Index end, RowMatrixXf<3>& out) {
   for (Eigen::Index i = begin; i < end; ++i) {
     const Eigen::Vector3f r = rest.normal(i);
-    const cga::Vector<float> y = cga::unit_sandwich(blend_versor(mesh, palette, i), cga::euclidean<float>(r.x(), r.y(), r.z()));
+    const cga::Vector<float> y =
+        cga::unit_sandwich(blend_versor(mesh, palette, i), cga::euclidean<float>(r.x(), r.y(), r.z()));
     out.row(i) << y[0], y[1], y[2];
   }
 }
@@ -227,40 +229,6 @@ void skin_normal_rows(const Mesh& mesh, const RestRows& rest, const SkinningPale
   }
 }
 
-/// Fills p.packed from the mode's entries (layout in SkinningPalette).
-void pack(SkinningPalette& p) {
-  const auto append = [&p](const auto& coefficients, int count) {
-    for (int c = 0; c < count; ++c) p.packed.push_back(static_cast<float>(coefficients[c]));
-  };
-  switch (p.mode) {
-    case SkinningMode::cga:
-    case SkinningMode::matrix:
-      p.packed_stride = 16;
-      for (const auto& a : p.affine)
-        for (int c = 0; c < 4; ++c) {
-          append(a.col(c), 3);
-          p.packed.push_back(0.0f);
-        }
-      break;
-    case SkinningMode::versor:
-      if (!p.motors.empty()) {
-        p.packed_stride = 8;
-        for (const auto& m : p.motors) append(m, 8);
-      } else {
-        p.packed_stride = 16;
-        for (const auto& v : p.versors) append(v, 16);
-      }
-      break;
-    case SkinningMode::dqs:
-      p.packed_stride = p.scales.empty() ? 8 : 17;
-      for (std::size_t k = 0; k < p.dual_quats.size(); ++k) {
-        append(p.dual_quats[k], 8);
-        if (!p.scales.empty()) append(p.scales[k].data(), 9);
-      }
-      break;
-  }
-}
-
 /// Kernel `k` resolved (automatic: the fastest available); throws when it cannot run here.
 SkinningKernel resolve(SkinningKernel k) {
   if (k == SkinningKernel::automatic)
@@ -289,9 +257,11 @@ void validate(const Mesh& mesh, const SkinningPalette& p, Eigen::Index begin, Ei
   if (normals && (mesh.normals.rows() != n || normals->rows() != n))
     fail(std::to_string(mesh.normals.rows()) + " normals and " + std::to_string(normals->rows()) + " output rows for " +
          std::to_string(n) + " vertices");
-  if (p.packed.size() != static_cast<std::size_t>(p.packed_stride) * palette_size(mesh))
-    fail("the palette has " + std::to_string(p.packed_stride > 0 ? p.packed.size() / p.packed_stride : 0) +
-         " entries, the mesh uses " + std::to_string(palette_size(mesh)) + " (a palette made for another mesh?)");
+  const std::size_t packed = detail::PackedPalette::entries(p).size();
+  const auto stride = static_cast<std::size_t>(detail::PackedPalette::stride(p));
+  if (packed != stride * palette_size(mesh))
+    fail("the palette has " + std::to_string(stride > 0 ? packed / stride : 0) + " entries, the mesh uses " +
+         std::to_string(palette_size(mesh)) + " (a palette made for another mesh?)");
 }
 
 }  // namespace
@@ -339,7 +309,7 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
     p.dual_quats.reserve(n);
     p.scales.reserve(n);
   }
-  p.packed.reserve(17 * n);  // the largest stride (pack())
+  detail::PackedPalette::reserve(p, n);
   // cga reads the matrices too, for the entries no versor holds.
   const std::size_t count = mode == SkinningMode::cga ? std::min(globals_cga.size(), globals_matrix.size())
                             : uses_cga                ? globals_cga.size()
@@ -396,7 +366,7 @@ SkinningPalette make_palette(const Mesh& mesh, std::span<const cga::Versor<doubl
     if (rigid)
       for (const cga::Versor<float>& v : p.versors) p.motors.push_back(cga::project<cga::mask::motor>(v));
   }
-  pack(p);
+  detail::PackedPalette::pack(p);
   return p;
 }
 
@@ -523,3 +493,40 @@ RowMatrixXf<3> skin_cga_reference(const Mesh& mesh, std::span<const cga::Versor<
 }
 
 }  // namespace cgamesh::anim
+
+namespace cgamesh::detail {
+
+void PackedPalette::pack(anim::SkinningPalette& p) {
+  const auto append = [&p](const auto& coefficients, int count) {
+    for (int c = 0; c < count; ++c) p.packed_.push_back(static_cast<float>(coefficients[c]));
+  };
+  switch (p.mode) {
+    case anim::SkinningMode::cga:
+    case anim::SkinningMode::matrix:
+      p.packed_stride_ = 16;
+      for (const auto& a : p.affine)
+        for (int c = 0; c < 4; ++c) {
+          append(a.col(c), 3);
+          p.packed_.push_back(0.0f);
+        }
+      break;
+    case anim::SkinningMode::versor:
+      if (!p.motors.empty()) {
+        p.packed_stride_ = 8;
+        for (const auto& m : p.motors) append(m, 8);
+      } else {
+        p.packed_stride_ = 16;
+        for (const auto& v : p.versors) append(v, 16);
+      }
+      break;
+    case anim::SkinningMode::dqs:
+      p.packed_stride_ = p.scales.empty() ? 8 : 17;
+      for (std::size_t k = 0; k < p.dual_quats.size(); ++k) {
+        append(p.dual_quats[k], 8);
+        if (!p.scales.empty()) append(p.scales[k].data(), 9);
+      }
+      break;
+  }
+}
+
+}  // namespace cgamesh::detail

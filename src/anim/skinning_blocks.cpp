@@ -9,6 +9,8 @@
 #include "cgamesh/cga/products.hpp"
 #include "cgamesh/cga/versors.hpp"
 
+#include "packed_palette.hpp"
+
 // Every function here is internal and inlined into the entry points: the warning that 32-byte
 // vectors passed by value change the calling convention without AVX does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -251,7 +253,9 @@ inline Influences influences(const mesh::Mesh& m, Index i) noexcept {
 /// (the 8 floats of each entry from `offset`).
 inline void entries(const anim::SkinningPalette& p, const Influences& f, int k, int offset, V8 (&rows)[8]) noexcept {
   const float* row[8];
-  for (int l = 0; l < 8; ++l) row[l] = p.packed.data() + p.packed_stride * f.joint(l, k) + offset;
+  const float* packed = PackedPalette::entries(p).data();
+  const int stride = PackedPalette::stride(p);
+  for (int l = 0; l < 8; ++l) row[l] = packed + stride * f.joint(l, k) + offset;
   gather4(row, 0, rows);
   gather4(row, 4, rows + 4);
 }
@@ -260,7 +264,7 @@ inline void entries(const anim::SkinningPalette& p, const Influences& f, int k, 
 /// One block with `Count` influences a vertex (a constant, so the blend is unrolled).
 template <int Count>
 inline void block_affine(const BlockJob& job, const Influences& f, Index i) noexcept {
-  const float* packed = job.palette->packed.data();
+  const float* packed = PackedPalette::entries(*job.palette).data();
   V8 lo[8], hi[8];  // per vertex: columns 0, 1 of A, and column 2, b (each padded to 4)
   // Unrolled, the 16 rows stay in registers instead of a round trip through the stack (5 % here).
 #pragma GCC unroll 8
@@ -435,7 +439,9 @@ inline void block_dqs(const BlockJob& job, const Influences& f, Index i) noexcep
     if (!scaled) continue;
     entries(p, f, k, 8, rows);
     for (int c = 0; c < 8; ++c) s[c] += wk * F8(rows[c]);
-    for (int l = 0; l < 8; ++l) s[8].v[l] += wk.v[l] * p.packed[p.packed_stride * f.joint(l, k) + 16];
+    const float* packed = PackedPalette::entries(p).data();
+    const int stride = PackedPalette::stride(p);
+    for (int l = 0; l < 8; ++l) s[8].v[l] += wk.v[l] * packed[stride * f.joint(l, k) + 16];
   }
   const F8 inv = rsqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2] + b[3] * b[3]);
   const Xyz8 u{b[0] * inv, b[1] * inv, b[2] * inv};

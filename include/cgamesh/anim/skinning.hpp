@@ -23,6 +23,10 @@
 #include "cgamesh/cga/multivector.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 
+namespace cgamesh::detail {
+struct PackedPalette;
+}  // namespace cgamesh::detail
+
 namespace cgamesh::anim {
 
 enum class SkinningMode { cga, versor, matrix, dqs };
@@ -67,7 +71,8 @@ struct SkinningOptions {
   SkinningStores stores = SkinningStores::automatic;
 };
 
-/// What one frame's skinning of one mesh needs per palette entry (built per frame, small).
+/// What one frame's skinning of one mesh needs per palette entry (built per frame, small):
+/// make_palette() builds it.
 struct SkinningPalette {
   SkinningMode mode = SkinningMode::cga;
   std::vector<Eigen::Matrix<float, 3, 4>> affine;      ///< cga, matrix: x -> A x + b
@@ -77,16 +82,16 @@ struct SkinningPalette {
   /// dqs: scale/shear S_n of each M_n B_n = [R t] S_n, applied before the dual quaternions
   /// (Kavan et al. 2008, two-phase skinning); empty when every joint is rigid.
   std::vector<Eigen::Matrix3f> scales;
-  /// The entries above packed for the vector kernels, `packed_stride` floats per palette entry:
-  /// cga, matrix - the columns of [A b], each padded to 4 floats (16);
-  /// versor - the motor's 8 or the versor's 16 coefficients in storage order;
-  /// dqs - the dual quaternion's 8, then (when `scales` is not empty) the 9 of S column-major
-  /// (17).
-  std::vector<float> packed;
-  int packed_stride = 0;
   /// The mesh's morph-target weights this frame (morph_weights()), applied to the rest mesh
   /// before skinning in every mode (glTF's order); empty or all 0: the rest mesh as it is.
   std::vector<float> morph_weights;
+
+ private:
+  // The entries above in the vector kernels' layout, built by make_palette(): the kernels'
+  // business alone (layout and access in src/anim/packed_palette.hpp).
+  friend struct detail::PackedPalette;
+  std::vector<float> packed_;
+  int packed_stride_ = 0;
 };
 
 /// Builds the palette of `mesh` for one frame. A mesh without a skin follows its node.
