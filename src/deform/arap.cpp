@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,8 +19,28 @@
 
 #include "../parallel_for.hpp"
 
+namespace cgamesh::detail {
+
+/// One cell term: the edge (a, b) of welded nodes with weight w and w·(p_a − p_b) at rest.
+struct ArapEdge {
+  int a = 0, b = 0;
+  double weight = 0;
+  Eigen::Vector3d weighted_rest = Eigen::Vector3d::Zero();
+};
+
+/// One right-hand-side term of a node: R_cell · vector.
+struct ArapRhsTerm {
+  int cell = 0;
+  Eigen::Vector3d vector = Eigen::Vector3d::Zero();
+};
+
+}  // namespace cgamesh::detail
+
 namespace cgamesh::deform {
 namespace {
+
+using detail::ArapEdge;
+using detail::ArapRhsTerm;
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
@@ -108,26 +129,29 @@ constexpr Eigen::Index kMinArapPart = 512;
 
 /// Each cell's covariance S = Σ w (p_a − p_b)_rest (p′_a − p′_b)ᵀ and rotation into rotations,
 /// its energy E = Σ w‖d′‖² + Σ w‖d‖² − 2 tr(R S) into energies.
-void local_step(const ArapData& data, const Eigen::MatrixXd& p, std::vector<Eigen::Matrix3d>& rotations,
+/// @param[in] edge_begin   #N+1: cell n holds edges[edge_begin[n], edge_begin[n+1])
+/// @param[in] rest_energy  #N Σ w‖d‖² of each cell
+/// @param[in] p            #N×3 deformed node positions
+void local_step(std::span<const int> edge_begin, std::span<const ArapEdge> edges, std::span<const double> rest_energy,
+                const ArapOptions& options, const Eigen::MatrixXd& p, std::vector<Eigen::Matrix3d>& rotations,
                 std::vector<double>& energies) {
   detail::parallel_for(
-      data.node_count(), data.options.threads,
+      static_cast<Eigen::Index>(rest_energy.size()), options.threads,
       [&](Eigen::Index begin, Eigen::Index end) {
         for (Eigen::Index n = begin; n < end; ++n) {
           Eigen::Matrix3d s = Eigen::Matrix3d::Zero();
           double deformed = 0;
-          for (int e = data.edge_begin[static_cast<std::size_t>(n)];
-               e < data.edge_begin[static_cast<std::size_t>(n) + 1]; ++e) {
-            const ArapEdge& edge = data.edges[static_cast<std::size_t>(e)];
+          for (int e = edge_begin[static_cast<std::size_t>(n)]; e < edge_begin[static_cast<std::size_t>(n) + 1]; ++e) {
+            const ArapEdge& edge = edges[static_cast<std::size_t>(e)];
             const Eigen::Vector3d d = (p.row(edge.a) - p.row(edge.b)).transpose();
             s.noalias() += edge.weighted_rest * d.transpose();
             deformed += edge.weight * d.squaredNorm();
           }
           Eigen::Matrix3d& r = rotations[static_cast<std::size_t>(n)];
-          r = data.options.local_step == ArapLocalStep::rotor ? rotation_from_quaternion(top_quaternion(s))
-                                                              : arap_rotation_svd(s);
+          r = options.local_step == ArapLocalStep::rotor ? rotation_from_quaternion(top_quaternion(s))
+                                                         : arap_rotation_svd(s);
           energies[static_cast<std::size_t>(n)] =
-              deformed + data.rest_energy[static_cast<std::size_t>(n)] - 2 * (r.cwiseProduct(s.transpose())).sum();
+              deformed + rest_energy[static_cast<std::size_t>(n)] - 2 * (r.cwiseProduct(s.transpose())).sum();
         }
       },
       kMinArapPart);
@@ -148,24 +172,29 @@ Eigen::Matrix3d arap_rotation_svd(const Eigen::Matrix3d& covariance) {
   return svd.matrixV() * u.transpose();
 }
 
+ArapData::ArapData() = default;
+ArapData::ArapData(ArapData&& other) noexcept = default;
+ArapData& ArapData::operator=(ArapData&& other) noexcept = default;
+ArapData::~ArapData() = default;
+
 ArapData arap_precompute(const mesh::Mesh& mesh, std::span<const int> handles, const ArapOptions& options) {
   check_options(options);
   ArapData data;
-  data.options = options;
+  data.options_ = options;
   HarmonicOptions harmonic;
   harmonic.weights = options.weights;
   try {
-    data.system = harmonic_precompute(mesh, handles, harmonic);
+    data.system_ = harmonic_precompute(mesh, handles, harmonic);
   } catch (const SolverError& e) {
     throw SolverError(std::string("arap: ") + e.what());
   } catch (const InvalidInputError& e) {
     throw InvalidInputError(std::string("arap: ") + e.what());
   }
-  const std::vector<int>& node = data.system.node_of_vertex;
-  const int node_count = static_cast<int>(data.system.slot_of_node.size());
-  data.rest.resize(node_count, 3);
+  const std::vector<int>& node = data.system_.node_of_vertex;
+  const int node_count = static_cast<int>(data.system_.slot_of_node.size());
+  data.rest_.resize(node_count, 3);
   for (std::size_t v = 0; v < node.size(); ++v)
-    data.rest.row(node[v]) = mesh.positions.row(static_cast<Eigen::Index>(v)).cast<double>();
+    data.rest_.row(node[v]) = mesh.positions.row(static_cast<Eigen::Index>(v)).cast<double>();
 
   // Undirected edges numbered by their place in a compressed pattern, so that the terms of a
   // cell merge by setFromTriplets (an edge is in a cell once per triangle that puts it there).
@@ -215,7 +244,7 @@ ArapData arap_precompute(const mesh::Mesh& mesh, std::span<const int> handles, c
       ++slots[static_cast<std::size_t>(b) + 1];
     }
   for (std::size_t n = 1; n < slots.size(); ++n) slots[n] += slots[n - 1];
-  std::vector<ArapRhsTerm>& terms = data.rhs;
+  std::vector<ArapRhsTerm>& terms = data.rhs_;
   terms.resize(static_cast<std::size_t>(slots.back()));
   std::vector<int> filled(slots.begin(), slots.end() - 1);
   const auto add = [&](int node, int cell, const Eigen::Vector3d& v) {
@@ -225,27 +254,27 @@ ArapData arap_precompute(const mesh::Mesh& mesh, std::span<const int> handles, c
     else
       terms[static_cast<std::size_t>(end++)] = {cell, v};
   };
-  data.edges.reserve(static_cast<std::size_t>(cells.nonZeros()));
-  data.edge_begin.assign(1, 0);
-  data.rest_energy.assign(static_cast<std::size_t>(node_count), 0.0);
+  data.edges_.reserve(static_cast<std::size_t>(cells.nonZeros()));
+  data.edge_begin_.assign(1, 0);
+  data.rest_energy_.assign(static_cast<std::size_t>(node_count), 0.0);
   for (int n = 0; n < node_count; ++n) {
     for (RowSparse::InnerIterator it(cells, n); it; ++it) {
       const auto [a, b] = edge_ends[static_cast<std::size_t>(it.col())];
-      const Eigen::Vector3d d = (data.rest.row(a) - data.rest.row(b)).transpose();
-      data.edges.push_back({a, b, it.value(), it.value() * d});
-      data.rest_energy[static_cast<std::size_t>(n)] += it.value() * d.squaredNorm();
+      const Eigen::Vector3d d = (data.rest_.row(a) - data.rest_.row(b)).transpose();
+      data.edges_.push_back({a, b, it.value(), it.value() * d});
+      data.rest_energy_[static_cast<std::size_t>(n)] += it.value() * d.squaredNorm();
       add(a, n, share * it.value() * d);
       add(b, n, -share * it.value() * d);
     }
-    data.edge_begin.push_back(static_cast<int>(data.edges.size()));
+    data.edge_begin_.push_back(static_cast<int>(data.edges_.size()));
   }
   // Compacted in place: a node's terms move down over the slots its repeats left unused.
-  data.rhs_begin.assign(1, 0);
+  data.rhs_begin_.assign(1, 0);
   std::size_t kept = 0;
   for (int n = 0; n < node_count; ++n) {
     for (int i = slots[static_cast<std::size_t>(n)]; i < filled[static_cast<std::size_t>(n)]; ++i)
       terms[kept++] = terms[static_cast<std::size_t>(i)];
-    data.rhs_begin.push_back(static_cast<int>(kept));
+    data.rhs_begin_.push_back(static_cast<int>(kept));
   }
   terms.resize(kept);
   return data;
@@ -258,19 +287,19 @@ ArapReport arap_solve(const ArapData& data, const Eigen::MatrixXd& handle_positi
                             " columns, not 3");
   Eigen::MatrixXd handle_nodes;
   try {
-    handle_nodes = constrained_node_values(data.system, handle_positions);
+    handle_nodes = constrained_node_values(data.system_, handle_positions);
   } catch (const InvalidInputError& e) {
     throw InvalidInputError(std::string("arap_solve: ") + e.what());
   }
   if (positions.size() != 0 && (positions.rows() != vertex_count || positions.cols() != 3 || !positions.allFinite()))
     throw InvalidInputError("arap_solve: the initial guess must be empty or " + std::to_string(vertex_count) +
                             "x3 finite positions");
-  const std::vector<int>& node = data.system.node_of_vertex;
-  const std::vector<int>& slot = data.system.slot_of_node;
-  Eigen::MatrixXd p = data.rest;
+  const std::vector<int>& node = data.system_.node_of_vertex;
+  const std::vector<int>& slot = data.system_.slot_of_node;
+  Eigen::MatrixXd p = data.rest_;
   if (positions.size() != 0)
     for (Eigen::Index v = 0; v < vertex_count; ++v) p.row(node[static_cast<std::size_t>(v)]) = positions.row(v);
-  std::vector<int> free_node(static_cast<std::size_t>(data.system.free_by_constrained.rows()));
+  std::vector<int> free_node(static_cast<std::size_t>(data.system_.free_by_constrained.rows()));
   for (int n = 0; n < static_cast<int>(node_count); ++n) {
     const int s = slot[static_cast<std::size_t>(n)];
     if (s >= 0)
@@ -278,12 +307,12 @@ ArapReport arap_solve(const ArapData& data, const Eigen::MatrixXd& handle_positi
     else
       p.row(n) = handle_nodes.row(-1 - s);
   }
-  const Eigen::MatrixXd handle_rhs = data.system.free_by_constrained * handle_nodes;
+  const Eigen::MatrixXd handle_rhs = data.system_.free_by_constrained * handle_nodes;
 
   std::vector<Eigen::Matrix3d> rotations(static_cast<std::size_t>(node_count));
   std::vector<double> cell_energy(static_cast<std::size_t>(node_count));
   const auto energy = [&] {
-    local_step(data, p, rotations, cell_energy);
+    local_step(data.edge_begin_, data.edges_, data.rest_energy_, data.options_, p, rotations, cell_energy);
     double sum = 0;
     for (const double e : cell_energy) sum += e;
     return sum;
@@ -291,15 +320,15 @@ ArapReport arap_solve(const ArapData& data, const Eigen::MatrixXd& handle_positi
   ArapReport report;
   report.energies.push_back(energy());
   Eigen::MatrixXd b(static_cast<Eigen::Index>(free_node.size()), 3);
-  while (report.iterations < data.options.iterations && !free_node.empty()) {
+  while (report.iterations < data.options_.iterations && !free_node.empty()) {
     detail::parallel_for(
-        b.rows(), data.options.threads,
+        b.rows(), data.options_.threads,
         [&](Eigen::Index begin, Eigen::Index end) {
           for (Eigen::Index s = begin; s < end; ++s) {
             const auto n = static_cast<std::size_t>(free_node[static_cast<std::size_t>(s)]);
             Eigen::Vector3d sum = handle_rhs.row(s).transpose();
-            for (int t = data.rhs_begin[n]; t < data.rhs_begin[n + 1]; ++t) {
-              const ArapRhsTerm& term = data.rhs[static_cast<std::size_t>(t)];
+            for (int t = data.rhs_begin_[n]; t < data.rhs_begin_[n + 1]; ++t) {
+              const ArapRhsTerm& term = data.rhs_[static_cast<std::size_t>(t)];
               sum.noalias() += rotations[static_cast<std::size_t>(term.cell)] * term.vector;
             }
             b.row(s) = sum.transpose();
@@ -309,18 +338,19 @@ ArapReport arap_solve(const ArapData& data, const Eigen::MatrixXd& handle_positi
     // The three back-substitutions are independent: one column a part.
     Eigen::MatrixXd x(b.rows(), 3);
     detail::parallel_for(
-        3, data.options.threads,
+        3, data.options_.threads,
         [&](Eigen::Index begin, Eigen::Index end) {
-          for (Eigen::Index c = begin; c < end; ++c) x.col(c) = data.system.ldlt->solve(b.col(c));
+          for (Eigen::Index c = begin; c < end; ++c) x.col(c) = data.system_.ldlt->solve(b.col(c));
         },
         1);
-    if (data.system.ldlt->info() != Eigen::Success || !x.allFinite())
+    if (data.system_.ldlt->info() != Eigen::Success || !x.allFinite())
       throw SolverError("arap_solve: the solve failed (non-finite result)");
     for (std::size_t s = 0; s < free_node.size(); ++s) p.row(free_node[s]) = x.row(static_cast<Eigen::Index>(s));
     ++report.iterations;
     const double previous = report.energies.back();
     report.energies.push_back(energy());
-    if (data.options.tolerance > 0 && previous - report.energies.back() <= data.options.tolerance * std::abs(previous))
+    if (data.options_.tolerance > 0 &&
+        previous - report.energies.back() <= data.options_.tolerance * std::abs(previous))
       break;
   }
   positions.resize(vertex_count, 3);

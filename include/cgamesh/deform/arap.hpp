@@ -30,6 +30,11 @@
 #include "cgamesh/deform/harmonic_field.hpp"
 #include "cgamesh/mesh/mesh.hpp"
 
+namespace cgamesh::detail {
+struct ArapEdge;     // one cell term (src/deform/arap.cpp)
+struct ArapRhsTerm;  // one right-hand-side term of a node (src/deform/arap.cpp)
+}  // namespace cgamesh::detail
+
 namespace cgamesh::deform {
 
 /// The cells whose rigidity the energy measures.
@@ -54,33 +59,42 @@ struct ArapOptions {
   int threads = 0;       ///< local step, right-hand sides, back-substitutions (0: all hardware threads)
 };
 
-/// One cell term: the edge (a, b) of welded nodes with weight w and w·(p_a − p_b) at rest.
-struct ArapEdge {
-  int a = 0, b = 0;
-  double weight = 0;
-  Eigen::Vector3d weighted_rest = Eigen::Vector3d::Zero();
-};
+struct ArapReport;
 
-/// One right-hand-side term of a node: R_cell · vector.
-struct ArapRhsTerm {
-  int cell = 0;
-  Eigen::Vector3d vector = Eigen::Vector3d::Zero();
-};
+/// Everything arap_solve() needs for one mesh and one handle set: the welded nodes, the
+/// factorised Laplacian, the cells and the right-hand-side operator. Built by
+/// arap_precompute(); move-only.
+class ArapData {
+ public:
+  ArapData(ArapData&& other) noexcept;
+  ArapData& operator=(ArapData&& other) noexcept;
+  ArapData(const ArapData&) = delete;
+  ArapData& operator=(const ArapData&) = delete;
+  ~ArapData();
 
-/// Everything arap_solve() needs for one mesh and one handle set. Move-only.
-struct ArapData {
-  ArapOptions options;
-  HarmonicPrecomputation system;  ///< welded nodes, the factorised free block of the Laplacian
-  Eigen::MatrixXd rest;           ///< #N×3 rest position of each welded node
-  std::vector<int> edge_begin;    ///< #N+1: cell n holds edges[edge_begin[n], edge_begin[n+1])
-  std::vector<ArapEdge> edges;
-  std::vector<double> rest_energy;  ///< #N Σ w‖p_a − p_b‖² over each cell
-  std::vector<int> rhs_begin;       ///< #N+1: node n sums rhs[rhs_begin[n], rhs_begin[n+1])
-  std::vector<ArapRhsTerm> rhs;
+  /// The options it was built with (arap_solve() iterates by them).
+  [[nodiscard]] const ArapOptions& options() const noexcept { return options_; }
+  /// #V of the mesh.
+  [[nodiscard]] Eigen::Index vertex_count() const noexcept { return system_.vertex_count(); }
+  /// #N welded nodes (vertices at one rest position are one node).
+  [[nodiscard]] Eigen::Index node_count() const noexcept { return rest_.rows(); }
+  /// #H handles, the rows arap_solve() expects in its handle positions.
+  [[nodiscard]] Eigen::Index handle_count() const noexcept { return system_.constrained_count(); }
 
-  [[nodiscard]] Eigen::Index vertex_count() const noexcept { return system.vertex_count(); }
-  [[nodiscard]] Eigen::Index node_count() const noexcept { return rest.rows(); }
-  [[nodiscard]] Eigen::Index handle_count() const noexcept { return system.constrained_count(); }
+ private:
+  friend ArapData arap_precompute(const mesh::Mesh& mesh, std::span<const int> handles, const ArapOptions& options);
+  friend ArapReport arap_solve(const ArapData& data, const Eigen::MatrixXd& handle_positions,
+                               Eigen::MatrixXd& positions);
+  ArapData();
+
+  ArapOptions options_;
+  HarmonicPrecomputation system_;  ///< welded nodes, the factorised free block of the Laplacian
+  Eigen::MatrixXd rest_;           ///< #N×3 rest position of each welded node
+  std::vector<int> edge_begin_;    ///< #N+1: cell n holds edges_[edge_begin_[n], edge_begin_[n+1])
+  std::vector<detail::ArapEdge> edges_;
+  std::vector<double> rest_energy_;  ///< #N Σ w‖p_a − p_b‖² over each cell
+  std::vector<int> rhs_begin_;       ///< #N+1: node n sums rhs_[rhs_begin_[n], rhs_begin_[n+1])
+  std::vector<detail::ArapRhsTerm> rhs_;
 };
 
 /// What arap_solve() did.
