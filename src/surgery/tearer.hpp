@@ -91,8 +91,6 @@ class Tearer {
   void for_each_copy(const VertexOf& vertex_of, const Visit& visit) const;
 
  private:
-  friend struct TearerProbe;  // tests run the private steps one at a time
-
   using PathEdges = std::set<std::pair<long long, long long>>;
 
   // ---- trace(): per scalpel step, in order --------------------------------------------------

@@ -1,11 +1,12 @@
-// The steps of a tear run one at a time on small grids: the crossings of a face with a step's
-// plane, the surface path along the blade, and the side groups a path vertex is split into.
+// A Tearer's steps on small grids, through its interface: the surface path along the blade (its
+// crossings of the faces with the step's plane) and the copies a path vertex is split into.
 #include "surgery/tearer.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -17,37 +18,6 @@
 
 #include "surgery/surgery_fixtures.hpp"
 
-namespace cgamesh::surgery::detail {
-
-/// Runs the private steps of a Tearer alone.
-struct TearerProbe {
-  static StepPlane step_plane(const PathPoint& s, const Scalpel& blade) { return Tearer::step_plane(s, blade, 0); }
-  static std::vector<PathPoint> crossings(const Tearer& t, int f, const StepPlane& p) { return t.crossings(f, p); }
-  static const StepPlane& plane(const Tearer& t, int step) { return t.planes_[static_cast<std::size_t>(step)]; }
-  static Eigen::Vector3d at(const Tearer& t, int f, const std::array<double, 3>& b) { return t.at(f, b); }
-  static std::array<double, 3> bary_in(const Tearer& t, const PathPoint& p, int g) { return t.bary_in(p, g); }
-
-  /// What duplicate() starts from: the faces the path crosses split, the fans of its vertices
-  /// freed.
-  static void split_faces(Tearer& t, const std::vector<PathPoint>& path) {
-    t.retriangulate(path);
-    t.free_fans(path);
-  }
-
-  /// The new faces around inner path point i (sorted, each once) and their side groups.
-  static std::pair<std::vector<int>, std::vector<int>> groups_at(const Tearer& t, const std::vector<PathPoint>& path,
-                                                                 int i) {
-    const long long k = t.point_key(path, i);
-    std::vector<int> faces = t.faces_by_key().at(k);
-    std::sort(faces.begin(), faces.end());
-    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-    std::vector<int> group = t.side_groups(k, faces, t.path_edges(path));
-    return {std::move(faces), std::move(group)};
-  }
-};
-
-}  // namespace cgamesh::surgery::detail
-
 namespace {
 
 using namespace cgamesh;
@@ -55,9 +25,7 @@ using namespace cgamesh_test;
 using surgery::Scalpel;
 using surgery::TearOptions;
 using surgery::detail::PathPoint;
-using surgery::detail::StepPlane;
 using surgery::detail::Tearer;
-using surgery::detail::TearerProbe;
 
 /// One static mesh at rest with its index: what a Tearer refers to, kept alive for it.
 struct OneMesh {
@@ -84,10 +52,38 @@ struct OneMesh {
   }
 
   [[nodiscard]] Eigen::Vector3d vertex(int v) const { return placement.positions[0].row(v).cast<double>().transpose(); }
+
+  /// The point of face f at barycentric coordinates b.
+  [[nodiscard]] Eigen::Vector3d at(int f, const std::array<double, 3>& b) const {
+    const mesh::Faces& faces = model.meshes[0].faces;
+    return b[0] * vertex(faces(f, 0)) + b[1] * vertex(faces(f, 1)) + b[2] * vertex(faces(f, 2));
+  }
+
+  /// The distance of x from the plane of face f, and how far outside the face its projection
+  /// falls (0: inside), by its barycentric coordinates there.
+  [[nodiscard]] std::pair<double, double> off_face(int f, const Eigen::Vector3d& x) const {
+    const mesh::Faces& faces = model.meshes[0].faces;
+    const Eigen::Vector3d a = vertex(faces(f, 0)), u = vertex(faces(f, 1)) - a, v = vertex(faces(f, 2)) - a;
+    const Eigen::Vector3d n = u.cross(v).normalized();
+    const Eigen::Vector2d uv = (Eigen::Matrix<double, 3, 2>() << u, v).finished().colPivHouseholderQr().solve(x - a);
+    const double outside = std::max({0.0, -uv[0], -uv[1], uv[0] + uv[1] - 1});
+    return {std::abs(n.dot(x - a)), outside};
+  }
 };
 
 /// A vertical blade over (x, y) of a grid in z = 0.
 Scalpel blade_at(double x, double y) { return {{x, y, 1.0}, {x, y, -1.0}}; }
+
+/// Π of a step: the plane through its entry point and the next blade, as (unit n, d).
+struct StepPlane {
+  Eigen::Vector3d n;
+  double d = 0;
+};
+
+StepPlane step_plane(const Eigen::Vector3d& entry, const Scalpel& next) {
+  const Eigen::Vector3d n = (next.handle - entry).cross(next.tip - entry).normalized();
+  return {n, n.dot(entry)};
+}
 
 double offset(const StepPlane& p, const Eigen::Vector3d& x) { return p.n.dot(x) - p.d; }
 
@@ -98,46 +94,34 @@ std::vector<PathPoint> trace(const OneMesh& g, Tearer& t, const std::vector<Scal
   return t.trace(entries, steps);
 }
 
-// A curved surface and a slanted blade, so that Π is no plane of symmetry of the grid.
-TEST(TearerSteps, CrossingsOfAFaceWithAStepPlaneLieOnThePlaneAndOnTheFaceBorder) {
+// A curved surface and a slanted blade, so that Π is no plane of symmetry of the grid: the
+// path's points between the two entry points are crossings of face borders with Π.
+TEST(TearerSteps, CrossingsOfTheFacesWithAStepPlaneLieOnThePlaneAndOnTheFaceBorders) {
   mesh::Mesh m = grid(4);
   for (Eigen::Index v = 0; v < m.vertex_count(); ++v)
     m.positions(v, 2) = 0.1f * m.positions(v, 0) + 0.05f * m.positions(v, 1) * m.positions(v, 1);
   for (const surgery::Predicates predicates : {surgery::Predicates::cga, surgery::Predicates::euclidean}) {
     const OneMesh g(m, {.predicates = predicates});
-    const Tearer t = g.tearer();
-    const Scalpel next{{3.3, 0.9, 3.0}, {3.1, 1.4, -3.0}};
-    const PathPoint s = g.entry(t, {{1.7, 2.2, 5.0}, {1.7, 2.2, -5.0}});
-    const StepPlane plane = TearerProbe::step_plane(s, next);
-    EXPECT_NEAR(plane.n.norm(), 1.0, 1e-12);
-    for (const Eigen::Vector3d& x : {s.x, next.handle, next.tip}) EXPECT_NEAR(offset(plane, x), 0.0, 1e-9);
-    int cut = 0;
-    for (int f = 0; f < static_cast<int>(m.face_count()); ++f) {
-      std::array<double, 3> corner_offset{};
-      for (int k = 0; k < 3; ++k) corner_offset[static_cast<std::size_t>(k)] = offset(plane, g.vertex(m.faces(f, k)));
-      const auto [lo, hi] = std::minmax_element(corner_offset.begin(), corner_offset.end());
-      const std::vector<PathPoint> crossings = TearerProbe::crossings(t, f, plane);
-      if (*lo > 1e-4 || *hi < -1e-4) {
-        EXPECT_TRUE(crossings.empty()) << "face " << f << " lies on one side";
-      }
-      if (*lo < -1e-4 && *hi > 1e-4) {
-        EXPECT_EQ(crossings.size(), 2u) << "Π enters and leaves face " << f;
-        ++cut;
-      }
-      for (const PathPoint& p : crossings) {
-        EXPECT_EQ(p.face, f);
-        EXPECT_NEAR(offset(plane, p.x), 0.0, 1e-9) << "face " << f;
-        EXPECT_NEAR(p.bary[0] + p.bary[1] + p.bary[2], 1.0, 1e-12);
-        for (const double b : p.bary) EXPECT_TRUE(b >= 0 && b <= 1);
-        EXPECT_LE((TearerProbe::at(t, f, p.bary) - p.x).norm(), 1e-12);
-        if (p.kind == PathPoint::Kind::edge) {  // the edge's two ends lie on opposite sides of Π
-          EXPECT_LT(corner_offset[static_cast<std::size_t>(p.corner)] *
-                        corner_offset[static_cast<std::size_t>((p.corner + 1) % 3)],
-                    0.0);
-        }
+    Tearer t = g.tearer();
+    const std::vector<Scalpel> steps{{{1.7, 2.2, 5.0}, {1.7, 2.2, -5.0}}, {{3.3, 0.9, 3.0}, {3.1, 1.4, -3.0}}};
+    const std::vector<PathPoint> path = trace(g, t, steps);
+    ASSERT_GE(path.size(), 4u) << "Π crosses the grid";
+    const StepPlane plane = step_plane(path.front().x, steps[1]);
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      const PathPoint& p = path[i];
+      const int f = p.face;
+      ASSERT_GE(f, 0);
+      EXPECT_NEAR(offset(plane, p.x), 0.0, 1e-9) << "point " << i;
+      EXPECT_NEAR(p.bary[0] + p.bary[1] + p.bary[2], 1.0, 1e-12);
+      for (const double b : p.bary) EXPECT_TRUE(b >= 0 && b <= 1);
+      EXPECT_LE((g.at(f, p.bary) - p.x).norm(), 1e-12) << "point " << i;
+      if (i == 0 || i + 1 == path.size()) continue;  // the entry points
+      EXPECT_NE(p.kind, PathPoint::Kind::face) << "point " << i << " is no crossing of a face border";
+      if (p.kind == PathPoint::Kind::edge) {  // the edge's two ends lie on opposite sides of Π
+        const auto corner_offset = [&](int k) { return offset(plane, g.vertex(m.faces(f, k % 3))); };
+        EXPECT_LT(corner_offset(p.corner) * corner_offset(p.corner + 1), 0.0) << "point " << i;
       }
     }
-    EXPECT_GE(cut, 4) << "Π crosses the grid";
   }
 }
 
@@ -165,15 +149,17 @@ TEST(TearerSteps, TracedPathRunsInOrderAlongTheBladeThroughTheFacesItNames) {
       ASSERT_GE(p.face, 0);
       EXPECT_NEAR(p.bary[0] + p.bary[1] + p.bary[2], 1.0, 1e-12);
       for (const double b : p.bary) EXPECT_TRUE(b >= 0 && b <= 1);
-      EXPECT_LE((TearerProbe::at(t, p.face, p.bary) - p.x).norm(), 1e-12) << "point " << i;
-      EXPECT_NEAR(offset(TearerProbe::plane(t, p.step), p.x), 0.0, 1e-9) << "point " << i;
+      EXPECT_LE((g.at(p.face, p.bary) - p.x).norm(), 1e-12) << "point " << i;
+      const StepPlane plane = step_plane(entry(p.step), steps[static_cast<std::size_t>(p.step) + 1]);
+      EXPECT_NEAR(offset(plane, p.x), 0.0, 1e-9) << "point " << i;
       if (i == 0) continue;
       const PathPoint& q = path[i - 1];
       // The segment from q to p lies in p's segment face: both ends are points of it.
-      for (const PathPoint* end : {&q, &p})
-        EXPECT_LE((TearerProbe::at(t, p.segment_face, TearerProbe::bary_in(t, *end, p.segment_face)) - end->x).norm(),
-                  1e-12)
-            << "segment " << i;
+      for (const PathPoint* end : {&q, &p}) {
+        const auto [distance, outside] = g.off_face(p.segment_face, end->x);
+        EXPECT_LE(distance, 1e-12) << "segment " << i;
+        EXPECT_LE(outside, 1e-12) << "segment " << i;
+      }
       // A point's step is that of the segment leaving it (an entry point's, the next step's).
       const Eigen::Vector3d dir = (entry(q.step + 1) - entry(q.step)).normalized();
       EXPECT_GT((p.x - q.x).dot(dir), 1e-6) << "point " << i << " is not beyond point " << i - 1;
@@ -184,10 +170,10 @@ TEST(TearerSteps, TracedPathRunsInOrderAlongTheBladeThroughTheFacesItNames) {
   }
 }
 
-// Every face around a path vertex lies on one side of the (straight) path: the faces on each
-// side form one group, and the two sides two different groups. One stroke crosses edges only,
-// the other passes through grid vertices, whose whole fans are split.
-TEST(TearerSteps, SideGroupsPutFacesOnOppositeSidesOfThePathApart) {
+// Every face around an inner path vertex lies on one side of the (straight) path: prepare()
+// gives the faces on each side one copy of the vertex, and the two sides different copies. One
+// stroke crosses edges only, the other passes through grid vertices, whose whole fans are split.
+TEST(TearerSteps, PrepareGivesTheFacesOnEachSideOfThePathTheirOwnCopyOfAPathVertex) {
   const OneMesh g(grid(4));
   const mesh::Mesh& m = g.model.meshes[0];
   const int nv = static_cast<int>(m.vertex_count());
@@ -203,24 +189,28 @@ TEST(TearerSteps, SideGroupsPutFacesOnOppositeSidesOfThePathApart) {
     EXPECT_EQ(std::any_of(path.begin() + 1, path.end() - 1,
                           [](const PathPoint& p) { return p.kind == PathPoint::Kind::vertex; }),
               stroke.through_vertices);
-    TearerProbe::split_faces(t, path);
+    t.prepare(path);
+    const surgery::LocalEdit& edit = t.edit();
+    const auto position = [&](int x) {
+      return x < nv ? g.vertex(x) : edit.new_vertices()[static_cast<std::size_t>(x - nv)].placed;
+    };
+    const StepPlane plane = step_plane(path.front().x, stroke.to);
     for (int i = 1; i + 1 < static_cast<int>(path.size()); ++i) {
-      const auto [faces, group] = TearerProbe::groups_at(t, path, i);
-      ASSERT_EQ(faces.size(), group.size());
-      ASSERT_GE(faces.size(), 2u);
-      const StepPlane& plane = TearerProbe::plane(t, path[static_cast<std::size_t>(i)].step);
-      std::map<int, int> group_of_side;  // side of Π (±1) -> the group of its faces
-      for (std::size_t a = 0; a < faces.size(); ++a) {
-        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-        for (const int x : t.edit().new_faces()[static_cast<std::size_t>(faces[a])])
-          centroid += x < nv ? g.vertex(x) : t.edit().new_vertices()[static_cast<std::size_t>(x - nv)].placed;
-        const double side = offset(plane, centroid / 3);
-        ASSERT_GT(std::abs(side), 1e-3) << "a face around point " << i << " lies on the path";
-        const auto [it, added] = group_of_side.try_emplace(side > 0 ? 1 : -1, group[a]);
-        EXPECT_EQ(it->second, group[a]) << "faces on one side of point " << i << " in two groups";
-      }
-      ASSERT_EQ(group_of_side.size(), 2u) << "faces on both sides of point " << i;
-      EXPECT_NE(group_of_side[1], group_of_side[-1]) << "the two sides of point " << i << " in one group";
+      const Eigen::Vector3d& point = path[static_cast<std::size_t>(i)].x;
+      std::map<int, std::set<int>> copies_on_side;  // side of Π (±1) -> the ids of the point there
+      for (const std::array<int, 3>& face : edit.new_faces())
+        for (const int x : face) {
+          if ((position(x) - point).norm() > 1e-12) continue;
+          const Eigen::Vector3d centroid = (position(face[0]) + position(face[1]) + position(face[2])) / 3;
+          const double side = offset(plane, centroid);
+          ASSERT_GT(std::abs(side), 1e-3) << "a face around point " << i << " lies on the path";
+          copies_on_side[side > 0 ? 1 : -1].insert(x);
+        }
+      ASSERT_EQ(copies_on_side.size(), 2u) << "faces on both sides of point " << i;
+      ASSERT_EQ(copies_on_side[1].size(), 1u) << "faces on one side of point " << i << " with two copies";
+      ASSERT_EQ(copies_on_side[-1].size(), 1u) << "faces on one side of point " << i << " with two copies";
+      EXPECT_NE(*copies_on_side[1].begin(), *copies_on_side[-1].begin())
+          << "the two sides of point " << i << " share a copy";
     }
   }
 }
