@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/io/atomic_file.hpp"
 
 #include "cli_common.hpp"
@@ -48,7 +48,7 @@ struct DeformCommand {
     Json handle_sizes = Json::array();
     for (const auto& h : bound.handles()) handle_sizes.push_back(h.size());
     Json summary = {{"output", output},
-                    {"method", deform::method_name(spec.method)},
+                    {"method", deform::method_name(spec.method())},
                     {"mesh", bound.mesh_index()},
                     {"vertices", bound.vertex_count()},
                     {"handle_vertices", handle_sizes},
@@ -58,15 +58,15 @@ struct DeformCommand {
                     {"deform_milliseconds", deform_ms},
                     {"pose", {{"kind", "bind"}, {"space", world ? "world" : "mesh"}}},
                     {"warnings", warnings}};
-    if (const deform::FreeFormDeformation* ffd = bound.ffd()) {
+    if (const deform::FreeFormDeformation* ffd = bound.method().ffd()) {
       Json points = Json::array();
       for (const auto& h : bound.control_handles()) points.push_back(h.size());
       summary["control_points"] = ffd->lattice().count();
       summary["handle_control_points"] = points;
     }
-    if (spec.method == deform::DeformMethod::arap)
+    if (spec.method() == deform::DeformMethod::arap)
       summary["arap"] = {{"iterations", arap.iterations}, {"energies", arap.energies}};
-    if (const deform::CageDeformation* cage = bound.cage()) {
+    if (const deform::CageDeformation* cage = bound.method().cage()) {
       Json points = Json::array();
       for (const auto& h : bound.control_handles()) points.push_back(h.size());
       summary["cage_vertices"] = cage->cage_vertex_count();
@@ -82,13 +82,13 @@ struct DeformCommand {
     std::cout << "deform " << model << " (" << summary["method"].get<std::string>() << ", " << bound.keys().size()
               << " keys, " << bound.vertex_count() << " vertices, bind pose in " << (world ? "world" : "mesh")
               << " space): bind " << bind_ms << " ms, frame " << deform_ms << " ms\n  -> " << output << "\n";
-    if (!bound.free_vertices().empty() && bound.ffd())
+    if (!bound.free_vertices().empty() && bound.method().ffd())
       std::cout << "  " << bound.free_vertices().size() << " vertices outside the lattice box stay in place\n";
     else if (!bound.free_vertices().empty())
       std::cout << "  " << bound.free_vertices().size() << " vertices in parts without a handle "
-                << (spec.free_parts == deform::FreeParts::nearest ? "move with the nearest handle" : "stay in place")
+                << (spec.free_parts() == deform::FreeParts::nearest ? "move with the nearest handle" : "stay in place")
                 << "\n";
-    if (spec.method == deform::DeformMethod::arap)
+    if (spec.method() == deform::DeformMethod::arap)
       std::cout << "  ARAP: " << arap.iterations << " iterations, energy " << arap.energies.front() << " -> "
                 << arap.energies.back() << "\n";
     if (ik && !ik->reached) std::cout << "  warning: the IK target is out of reach (" << ik->distance << " away)\n";

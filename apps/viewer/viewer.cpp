@@ -530,7 +530,7 @@ void Viewer::bind_spec() {
 
 std::vector<cga::Versor<double>> Viewer::deform_keys() const {
   // An IK chain's keys are FABRIK's motors; key transforms come from the sliders.
-  if (options_.spec->ik) return deformer_->keys();
+  if (deformer_->ik()) return deformer_->keys();
   std::vector<cga::Versor<double>> out;
   for (const deform::KeyTransform& k : keys_) out.push_back(k.versor());
   return out;
@@ -590,8 +590,8 @@ void Viewer::deformation_panel() {
     return;
   }
   if (ImGui::Checkbox("preview (handles in green)", &preview_on_)) preview_dirty_ = true;
-  if (options_.spec->ik) ImGui::TextWrapped("keys from the IK chain (FABRIK)");
-  for (std::size_t i = 0; i < keys_.size() && !options_.spec->ik; ++i) {
+  if (deformer_->ik()) ImGui::TextWrapped("keys from the IK chain (FABRIK)");
+  for (std::size_t i = 0; i < keys_.size() && !deformer_->ik(); ++i) {
     deform::KeyTransform& k = keys_[i];
     if (!ImGui::TreeNodeEx(("key " + std::to_string(i)).c_str(), ImGuiTreeNodeFlags_DefaultOpen)) continue;
     std::array<float, 3> axis{static_cast<float>(k.axis.x()), static_cast<float>(k.axis.y()),

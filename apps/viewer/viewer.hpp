@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/render/camera.hpp"
 #include "cgamesh/render/model_scene.hpp"
 #include "cgamesh/render/renderer.hpp"

@@ -6,7 +6,7 @@
 #include "cgamesh/deform/fabrik.hpp"
 #include "cgamesh/deform/harmonic_field.hpp"
 #include "cgamesh/deform/motor_blend.hpp"
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/text_values.hpp"
 
@@ -116,7 +116,7 @@ void add_deform(py::module_& m) {
           "space", [](const Deformer& d) { return d.bound->space() == deform::DeformSpace::world ? "world" : "mesh"; },
           "'world' (bind pose, world space) or 'mesh'")
       .def_property_readonly("method",
-                             [](const Deformer& d) { return std::string(deform::method_name(d.spec.method)); })
+                             [](const Deformer& d) { return std::string(deform::method_name(d.spec.method())); })
       .def_property_readonly(
           "rest_positions",
           [](py::object self) {

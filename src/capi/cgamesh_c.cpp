@@ -20,7 +20,7 @@
 #include "cgamesh/anim/morph.hpp"
 #include "cgamesh/anim/pose_choice.hpp"
 #include "cgamesh/anim/skinning.hpp"
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_info.hpp"
 #include "cgamesh/io/model_loader.hpp"

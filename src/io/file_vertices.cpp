@@ -13,6 +13,7 @@
 #include "../flat_map.hpp"
 #include "gltf_extras_reader.hpp"
 #include "cgamesh/io/file_extension.hpp"
+#include "cgamesh/io/obj_reader.hpp"
 
 namespace cgamesh::io::detail {
 namespace {
@@ -35,24 +36,7 @@ std::optional<long long> ply_vertex_count(const std::filesystem::path& path) {
 /// The positions of an OBJ file's `v` lines, in order (a line whose numbers cannot be read
 /// keeps its place, as NaN, so that later lines keep their numbers).
 mesh::RowMatrixXf<3> obj_positions(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<float> xyz;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || (line.compare(i, 2, "v ") != 0 && line.compare(i, 2, "v\t") != 0)) continue;
-    const char* p = line.data() + i + 2;
-    const char* const end = line.data() + line.size();
-    for (int c = 0; c < 3; ++c) {
-      while (p < end && (*p == ' ' || *p == '\t')) ++p;
-      float x = std::numeric_limits<float>::quiet_NaN();
-      const auto [next, ec] = std::from_chars(p, end, x);
-      if (ec != std::errc()) x = std::numeric_limits<float>::quiet_NaN();
-      p = ec == std::errc() ? next : end;
-      xyz.push_back(x);
-    }
-  }
-  return Eigen::Map<const mesh::PlainRows<float, 3>>(xyz.data(), static_cast<Eigen::Index>(xyz.size() / 3), 3);
+  return read_obj(path, {.strict = false, .what = "OBJ"}).vertices.cast<float>();
 }
 
 /// Nearest-point lookup among the file's vertices on a grid of cells of twice the tolerance.

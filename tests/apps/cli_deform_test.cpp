@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/io/mesh_writer.hpp"
 #include "cgamesh/io/model_loader.hpp"
 

@@ -10,7 +10,7 @@
 
 #include "cgamesh/cga/point_map.hpp"
 #include "cgamesh/cga/versors.hpp"
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/model_loader.hpp"
 
@@ -275,25 +275,27 @@ TEST(FfdSpec, ReadsEveryField) {
                   "box": {"origin": [1, 2, 3], "size": [4, 5, 6], "rotate": [0, 0, 1, 90]}},
       "handles": [[[0, 0, 0], [1, 2, 3]], {"box": [0, 0, 0, 1, 1, 1]}], "keys": [{}, {"translate": [1, 0, 0]}]})",
                                                   "inline");
-  EXPECT_EQ(s.method, deform::DeformMethod::ffd);
-  EXPECT_EQ(s.variant, deform::FfdVariant::classic);
-  EXPECT_EQ(s.lattice.resolution, (std::array<int, 3>{2, 3, 4}));
-  EXPECT_EQ(s.lattice.basis, LatticeBasis::bspline);
-  EXPECT_EQ(s.lattice.ends, BsplineEnds::repeat);
-  ASSERT_TRUE(s.lattice.box.has_value());
-  EXPECT_EQ(s.lattice.box->origin, Eigen::Vector3d(1, 2, 3));
-  EXPECT_EQ(s.lattice.box->size, Eigen::Vector3d(4, 5, 6));
-  EXPECT_TRUE(s.lattice.box->rotation.isApprox(
+  EXPECT_EQ(s.method(), deform::DeformMethod::ffd);
+  const auto& f = std::get<deform::FfdSpec>(s.fields);
+  EXPECT_EQ(f.variant, deform::FfdVariant::classic);
+  EXPECT_EQ(f.lattice.resolution, (std::array<int, 3>{2, 3, 4}));
+  EXPECT_EQ(f.lattice.basis, LatticeBasis::bspline);
+  EXPECT_EQ(f.lattice.ends, BsplineEnds::repeat);
+  ASSERT_TRUE(f.lattice.box.has_value());
+  EXPECT_EQ(f.lattice.box->origin, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(f.lattice.box->size, Eigen::Vector3d(4, 5, 6));
+  EXPECT_TRUE(f.lattice.box->rotation.isApprox(
       Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix()));
   ASSERT_EQ(s.handles.size(), 2U);
   EXPECT_EQ(s.handles[0].kind, deform::HandleSelection::Kind::lattice_points);
   EXPECT_EQ(s.handles[0].points[1], (std::array<int, 3>{1, 2, 3}));
   EXPECT_EQ(s.handles[1].kind, deform::HandleSelection::Kind::box);
   const deform::DeformSpec d = deform::parse_spec(R"({"method": "ffd", "handles": [], "keys": []})", "inline");
-  EXPECT_EQ(d.variant, deform::FfdVariant::motor);
-  EXPECT_EQ(d.lattice.resolution, (std::array<int, 3>{2, 2, 2}));
-  EXPECT_FALSE(d.lattice.box.has_value());
-  EXPECT_STREQ(deform::method_name(d.method), "ffd");
+  const auto& g = std::get<deform::FfdSpec>(d.fields);
+  EXPECT_EQ(g.variant, deform::FfdVariant::motor);
+  EXPECT_EQ(g.lattice.resolution, (std::array<int, 3>{2, 2, 2}));
+  EXPECT_FALSE(g.lattice.box.has_value());
+  EXPECT_STREQ(deform::method_name(d.method()), "ffd");
 }
 
 TEST(FfdSpec, ErrorsNameTheField) {
@@ -347,10 +349,10 @@ TEST(FfdSpec, BindEqualsTheDirectLattice) {
             "keys": [{"translate": [0.1, 0, 0]}, {"rotate": [0, 1, 0, 30], "center": [0, 1, 0]}]})",
                            "inline");
     const deform::BoundDeformer bound(s, model);
-    ASSERT_NE(bound.ffd(), nullptr);
+    ASSERT_NE(bound.method().ffd(), nullptr);
     EXPECT_EQ(bound.control_handles(), (std::vector<std::vector<int>>{{4, 5}, {5, 11}}));
     EXPECT_EQ(bound.handles().size(), 2U);
-    const Lattice& l = bound.ffd()->lattice();
+    const Lattice& l = bound.method().ffd()->lattice();
     std::vector<Versor> motors(static_cast<std::size_t>(l.count()), kIdentity);
     motors[4] = bound.keys()[0];
     motors[5] = cga::project<cga::mask::versor>(bound.keys()[1] * bound.keys()[0]);
@@ -362,9 +364,9 @@ TEST(FfdSpec, BindEqualsTheDirectLattice) {
     }
     mesh::RowMatrixXf<3> expected;
     if (std::string(variant) == "motor")
-      bound.ffd()->deform_motors(motors, expected);
+      bound.method().ffd()->deform_motors(motors, expected);
     else
-      bound.ffd()->deform_points(points, expected);
+      bound.method().ffd()->deform_points(points, expected);
     // What a viewer draws: the moved control points and the 1·3·2 + 2·2·2 + 2·3·1 lattice edges.
     const std::vector<Eigen::Vector3d> drawn = bound.control_points(bound.keys());
     ASSERT_EQ(drawn.size(), points.size());

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "cgamesh/anim/morph.hpp"
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/errors.hpp"
 #include "cgamesh/mesh/normals.hpp"
 

@@ -1,4 +1,5 @@
 #include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -78,7 +79,16 @@ TEST(DeformSpecParse, ErrorsNameTheField) {
        "spec.keys[1].rotate: "},
       {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {"scale": -1}]})", "spec.keys[1].scale: "},
       {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {"spin": 1}]})", "spec.keys[1].spin: "},
-      {R"({"method": "harmonic", "handles": [[0]], "ik": {"joints": [], "target": [0, 0, 0]}})", "spec.ik: "},
+      {R"({"method": "harmonic", "handles": [[0]], "ik": {"joints": [], "target": [0, 0, 0]}})",
+       "spec.ik: not a field of the harmonic method (spline takes it)"},
+      {R"({"method": "harmonic", "handles": [[0]], "keys": [{}], "basis": "linear"})",
+       "spec.basis: not a field of the harmonic method (spline takes it)"},
+      {R"({"method": "arap", "handles": [[0]], "keys": [{}], "variant": "motor"})",
+       "spec.variant: not a field of the arap method (ffd and cage take it)"},
+      {R"({"method": "ffd", "handles": [], "keys": [], "weights": "cotangent"})",
+       "spec.weights: not a field of the ffd method (spline, harmonic and arap take it)"},
+      {R"({"method": "spline", "handles": [[0], [1]], "ik": {"joints": [[0, 0, 0]], "target": [0, 0, 1], "pole": 1}})",
+       "spec.ik.pole: unknown field"},
       {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {}], "space": "camera"})", "spec.space: "},
       {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {}], "free_parts": "drop"})", "spec.free_parts: "},
       {R"({"method": "spline", "handles": [[0], [1]], "keys": [{}, {}], "mesh": -1})", "spec.mesh: "},
@@ -95,18 +105,20 @@ TEST(DeformSpecParse, ReadsTheArapFields) {
   const DeformSpec s = parse_spec(R"({"method": "arap", "handles": [[0], [1]], "keys": [{}, {}],
       "weights": "clamped_cotangent", "energy": "spokes", "local_step": "svd", "iterations": 25, "tolerance": 0.001})",
                                   "inline");
-  EXPECT_EQ(s.method, deform::DeformMethod::arap);
-  EXPECT_EQ(s.arap.weights, deform::LaplacianWeights::clamped_cotangent);
-  EXPECT_EQ(s.arap.energy, deform::ArapEnergy::spokes);
-  EXPECT_EQ(s.arap.local_step, deform::ArapLocalStep::svd);
-  EXPECT_EQ(s.arap.iterations, 25);
-  EXPECT_EQ(s.arap.tolerance, 0.001);
+  EXPECT_EQ(s.method(), deform::DeformMethod::arap);
+  const deform::ArapOptions& a = std::get<deform::ArapSpec>(s.fields).options;
+  EXPECT_EQ(a.weights, deform::LaplacianWeights::clamped_cotangent);
+  EXPECT_EQ(a.energy, deform::ArapEnergy::spokes);
+  EXPECT_EQ(a.local_step, deform::ArapLocalStep::svd);
+  EXPECT_EQ(a.iterations, 25);
+  EXPECT_EQ(a.tolerance, 0.001);
   const DeformSpec d = parse_spec(R"({"method": "arap", "handles": [[0]], "keys": [{}]})", "inline");
-  EXPECT_EQ(d.arap.weights, deform::LaplacianWeights::cotangent);  // not the harmonic default
-  EXPECT_EQ(d.arap.energy, deform::ArapEnergy::spokes_and_rims);
-  EXPECT_EQ(d.arap.local_step, deform::ArapLocalStep::rotor);
-  EXPECT_EQ(d.arap.iterations, 10);
-  EXPECT_EQ(d.arap.tolerance, 0);
+  const deform::ArapOptions& b = std::get<deform::ArapSpec>(d.fields).options;
+  EXPECT_EQ(b.weights, deform::LaplacianWeights::cotangent);  // not the harmonic default
+  EXPECT_EQ(b.energy, deform::ArapEnergy::spokes_and_rims);
+  EXPECT_EQ(b.local_step, deform::ArapLocalStep::rotor);
+  EXPECT_EQ(b.iterations, 10);
+  EXPECT_EQ(b.tolerance, 0);
 }
 
 TEST(DeformSpecParse, ReadsEveryField) {
@@ -114,12 +126,13 @@ TEST(DeformSpecParse, ReadsEveryField) {
       "handles": [[3, 4], {"sphere": [1, 2, 3, 0.5]}], "basis": "linear", "free_parts": "keep",
       "keys": [{}, {"rotate": [0, 1, 0, 30], "translate": [1, 2, 3], "center": [0, 0, 1], "scale": 2}]})",
                                   "inline");
-  EXPECT_EQ(s.method, deform::DeformMethod::spline);
+  EXPECT_EQ(s.method(), deform::DeformMethod::spline);
+  const auto& spline = std::get<deform::SplineSpec>(s.fields);
   EXPECT_EQ(s.mesh, 1);
   EXPECT_EQ(s.space, DeformSpace::world);
-  EXPECT_EQ(s.weights, deform::LaplacianWeights::cotangent);
-  EXPECT_EQ(s.basis, deform::SplineBasis::linear);
-  EXPECT_EQ(s.free_parts, deform::FreeParts::keep);
+  EXPECT_EQ(spline.weights, deform::LaplacianWeights::cotangent);
+  EXPECT_EQ(spline.basis, deform::SplineBasis::linear);
+  EXPECT_EQ(s.free_parts(), deform::FreeParts::keep);
   ASSERT_EQ(s.handles.size(), 2U);
   EXPECT_EQ(s.handles[0].indices, (std::vector<int>{3, 4}));
   EXPECT_EQ(s.handles[1].kind, deform::HandleSelection::Kind::sphere);
@@ -238,11 +251,11 @@ TEST(DeformSpecBind, MeshErrorsNameTheField) {
 TEST(DeformSpecBind, EveryPointIsWithinReachOfTheMesh) {
   const anim::RiggedModel model = model_of(cylinder(12, 5));
   const auto message = [&](const std::string& text) { return bind_error(text, model); };
-  const std::string far = "1e308", two = R"("basis": "linear", "handles": [[0], [1]], )";
+  const std::string far = "1e308", two = R"("handles": [[0], [1]], )", linear = R"("basis": "linear", )";
   const std::pair<std::string, std::string> cases[] = {
-      {R"({"method": "spline", )" + two + R"("ik": {"joints": [[0, 0, 0], [0, 0, 1]], "target": [0, 0, )" + far + "]}}",
+      {R"({"method": "spline", )" + linear + two + R"("ik": {"joints": [[0, 0, 0], [0, 0, 1]], "target": [0, 0, )" + far + "]}}",
        "spec.ik.target: lies 1e+308 from the mesh, more than 1e+06 times the mesh's size"},
-      {R"({"method": "spline", )" + two + R"("ik": {"joints": [[0, 0, 0], [0, )" + far +
+      {R"({"method": "spline", )" + linear + two + R"("ik": {"joints": [[0, 0, 0], [0, )" + far +
            R"(, 1]], "target": [0, 0, 1]}})",
        "spec.ik.joints[1]: "},
       {R"({"method": "harmonic", )" + two + R"("keys": [{}, {"translate": [)" + far + ", 0, 0]}]}",
@@ -262,7 +275,8 @@ TEST(DeformSpecBind, EveryPointIsWithinReachOfTheMesh) {
   for (const auto& [text, field] : cases) EXPECT_NE(message(text).find(field), std::string::npos) << message(text);
   // Within reach, far from the mesh is still a point: an IK target 10 sizes away binds.
   EXPECT_EQ(
-      message(R"({"method": "spline", )" + two + R"("ik": {"joints": [[0, 0, 0], [0, 0, 1]], "target": [0, 0, 50]}})"),
+      message(R"({"method": "spline", )" + linear + two +
+              R"("ik": {"joints": [[0, 0, 0], [0, 0, 1]], "target": [0, 0, 50]}})"),
       "(no error)");
 }
 

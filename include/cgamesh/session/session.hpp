@@ -19,7 +19,7 @@
 #include "cgamesh/anim/pose.hpp"
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/anim/skinning.hpp"
-#include "cgamesh/deform/spec.hpp"
+#include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/soft/tissue.hpp"
 #include "cgamesh/surgery/cut.hpp"
 #include "cgamesh/surgery/drill.hpp"
@@ -130,7 +130,7 @@ class Session {
   OperationReport drill(const Eigen::Vector3d& tip, const Eigen::Vector3d& base, double radius,
                         const surgery::DrillOptions& options = {});
 
-  /// Deforms the model's rest shape by `deformer` under `keys` (deform/spec.hpp: the mesh it
+  /// Deforms the model's rest shape by `deformer` under `keys` (deform/bound_deformer.hpp: the mesh it
   /// was bound to gets BoundDeformer::deformed_model's rest shape, skin, skeleton and clips
   /// kept), as one undo step. `spec` names the spec in the report's command.
   /// @throws InvalidInputError when the deformer was bound to a mesh of another vertex count
