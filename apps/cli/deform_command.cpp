@@ -11,6 +11,7 @@
 
 #include "cgamesh/deform/bound_deformer.hpp"
 #include "cgamesh/io/atomic_file.hpp"
+#include "cgamesh/io/model_writer.hpp"
 
 #include "cli_common.hpp"
 
@@ -26,7 +27,7 @@ struct DeformCommand {
   bool json = false, force = false;
 
   void run() {
-    check_extension(output, {".obj", ".ply", ".glb", ".gltf"}, "deform");
+    check_extension(output, io::kModelExtensions, "deform");
     check_outputs({output}, {model, spec_path}, force);
     const deform::DeformSpec spec = deform::read_spec(spec_path);
     const anim::RiggedModel m = cli::load_model(model);

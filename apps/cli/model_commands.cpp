@@ -106,7 +106,7 @@ struct PoseOptions {
 };
 
 void run_pose(const PoseOptions& o) {
-  check_extension(o.output, {".obj", ".ply", ".glb", ".gltf"}, "pose");
+  check_extension(o.output, io::kModelExtensions, "pose");
   check_outputs({o.output}, {o.model}, o.force);
   const anim::RiggedModel model = cli::load_model(o.model);
   const PoseChoice::Chosen chosen = o.pose.choose(model);
@@ -153,7 +153,7 @@ struct ConvertOptions {
 };
 
 void run_convert(const ConvertOptions& o) {
-  check_extension(o.output, {".glb", ".gltf"}, "convert");
+  check_extension(o.output, io::kRiggedExtensions, "convert");
   check_outputs({o.output}, {o.model}, o.force);
   const anim::RiggedModel model = cli::load_model(o.model);
   io::write_gltf(model, o.output);
@@ -177,7 +177,7 @@ struct AnimateOptions {
 };
 
 void run_animate(const AnimateOptions& o) {
-  check_extension(o.output, {".glb", ".gltf"}, "animate");
+  check_extension(o.output, io::kRiggedExtensions, "animate");
   check_outputs({o.output}, {o.model}, o.force);
   if (!(o.fps > 0) || !std::isfinite(o.fps)) throw InvalidInputError("--fps must be a finite number > 0");
   anim::RiggedModel model = cli::load_model(o.model);
@@ -252,8 +252,7 @@ void add_animate(CLI::App& app) {
   sub->add_option("--key", o->keys, "TIME:JOINT:rotate=AX,AY,AZ,DEG (or translate=X,Y,Z, scale=S); repeatable")
       ->required();
   sub->add_option("--blend", o->blend, "linear or log")
-      ->transform(CLI::CheckedTransformer(
-          std::map<std::string, BlendMode>{{"linear", BlendMode::linear}, {"log", BlendMode::log}}, CLI::ignore_case));
+      ->transform(CLI::CheckedTransformer(io::kKeyframeBlendModes, CLI::ignore_case));
   sub->add_option("--fps", o->fps,
                   "frames per second of the generated clip (at most 100000 frames from the first key to the last)")
       ->capture_default_str();

@@ -59,7 +59,7 @@ struct SurgeryCommand {
 
   /// Refuses outputs of another type or that would overwrite the input (before loading).
   void check(const std::vector<std::string>& outputs, const std::string& command) const {
-    for (const std::string& o : outputs) check_extension(o, {".glb", ".gltf", ".obj", ".ply"}, command);
+    for (const std::string& o : outputs) check_extension(o, io::kModelExtensions, command);
     check_outputs(outputs, {model}, force);
   }
 

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "cgamesh/errors.hpp"
+#include "cgamesh/io/model_writer.hpp"
 #include "cgamesh/render/model_scene.hpp"
 #include "cgamesh/session/script.hpp"
 #include "cgamesh/session/session.hpp"
@@ -32,7 +33,7 @@ struct ViewCommand {
         if (a.verb == "color") (void)render::parse_color_mode(a.text, joint);
         if (a.verb == "view") (void)render::parse_view(a.text);
         if (a.verb == "joint") (void)parse_edit(m.skeleton, a.text, max_translation(m));
-        if (a.verb == "save") check_extension(a.text, {".glb", ".gltf", ".obj", ".ply"}, "save");
+        if (a.verb == "save") check_extension(a.text, io::kModelExtensions, "save");
         if (a.verb == "screenshot") check_extension(a.text, {".png"}, "screenshot");
       } catch (...) {
         rethrow_with_context(name + ":" + std::to_string(a.line) + ": " + a.verb + ": ");

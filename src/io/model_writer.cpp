@@ -1,5 +1,7 @@
 #include "cgamesh/io/model_writer.hpp"
 
+#include <algorithm>
+
 #include "cgamesh/errors.hpp"
 #include "cgamesh/io/file_extension.hpp"
 #include "cgamesh/io/gltf_writer.hpp"
@@ -9,14 +11,14 @@ namespace cgamesh::io {
 
 bool is_rigged_format(const std::filesystem::path& path) {
   const std::string ext = lower_extension(path);
-  return ext == ".glb" || ext == ".gltf";
+  return std::find(kRiggedExtensions.begin(), kRiggedExtensions.end(), ext) != kRiggedExtensions.end();
 }
 
 std::vector<EncodedFile> encode_model(const anim::RiggedModel& model, const std::filesystem::path& out,
                                       const std::function<mesh::WorldSurface()>& surface, std::vector<std::string>* warnings) {
   if (is_rigged_format(out)) return encode_gltf(model, out, {}, warnings);
   const std::string ext = lower_extension(out);
-  if (ext != ".obj" && ext != ".ply")
+  if (std::find(kModelExtensions.begin(), kModelExtensions.end(), ext) == kModelExtensions.end())
     throw InvalidInputError("'" + out.string() + "': a model is written as .glb, .gltf, .obj or .ply (the extension chooses)");
   const mesh::WorldSurface s = surface();
   return {encode_mesh(model.meshes, s.positions, out, s.normals)};

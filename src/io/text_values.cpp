@@ -19,6 +19,11 @@ using anim::SkinningMode;
 
 const std::map<std::string, anim::BlendMode> kBlendModes{
     {"format", BlendMode::format}, {"linear", BlendMode::linear}, {"log", BlendMode::log}};
+const std::map<std::string, anim::BlendMode> kKeyframeBlendModes = [] {
+  auto out = kBlendModes;
+  out.erase("format");
+  return out;
+}();
 const std::map<std::string, anim::SkinningMode> kSkinningModes{{"cga", SkinningMode::cga},
                                                                {"versor", SkinningMode::versor},
                                                                {"matrix", SkinningMode::matrix},

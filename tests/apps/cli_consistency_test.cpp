@@ -325,7 +325,7 @@ TEST(CliValues, ToolsFarFromTheModelAreRefused) {
 TEST(CliErrors, PoseListsEveryFormatItWrites) {
   Failure f;
   const fs::path out = f.outputs / "a.fbx";
-  expect_failure(f, {"pose", cesium().string(), "-o", out.string()}, 2, ".obj, .ply, .glb or .gltf", out);
+  expect_failure(f, {"pose", cesium().string(), "-o", out.string()}, 2, ".glb, .gltf, .obj or .ply", out);
   expect_failure(f, {"cut", cesium().string(), "--plane", "0,1,0,0.9", "-o", out.string(), out.string() + ".glb"}, 2,
                  ".glb, .gltf, .obj or .ply", out);
 }

@@ -13,6 +13,10 @@
 
 namespace cgamesh::io {
 
+/// What write_model() writes: the formats that keep the rig, then the surfaces.
+inline const std::vector<std::string> kRiggedExtensions{".glb", ".gltf"};
+inline const std::vector<std::string> kModelExtensions{".glb", ".gltf", ".obj", ".ply"};
+
 /// True for .glb and .gltf (any case): the formats that keep the rig.
 [[nodiscard]] bool is_rigged_format(const std::filesystem::path& path);
 

@@ -20,6 +20,8 @@ namespace cgamesh::io {
 
 /// Blend modes by name: format, linear, log.
 extern const std::map<std::string, anim::BlendMode> kBlendModes;
+/// The blend modes a generated clip's keys take (linear, log): kBlendModes but the file's own.
+extern const std::map<std::string, anim::BlendMode> kKeyframeBlendModes;
 /// Skinning modes by name: cga, versor, matrix, dqs.
 extern const std::map<std::string, anim::SkinningMode> kSkinningModes;
 /// Rest positions of surgery's new vertices by name: exact, parametric.
