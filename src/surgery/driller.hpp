@@ -172,10 +172,7 @@ class Driller {
   /// faces that meet it; fills `edit` (left empty when none does) and the counters.
   void run(const std::vector<int>& candidates, LocalEdit& edit, DrillStats& out);
 
- private:
-  friend struct DrillerPeer;  ///< the tests of the steps
-
-  // ---- the steps of run, in order ----
+  // ---- the steps of run, in order (public building blocks, each tested on its own) ----
 
   /// Room for the region pulled in from `candidates` input faces.
   void reserve_region(std::size_t candidates);
@@ -198,6 +195,22 @@ class Driller {
   /// Step 5: replaces the input faces of the region that changed by their pieces and the walls.
   void emit(const Pass& pass, const Walls& walls, LocalEdit& edit, DrillStats& out) const;
 
+  // ---- the region, as the steps build it ----
+
+  /// Adds a vertex to the region; its index.
+  int add_vertex(const Vertex& v);
+  [[nodiscard]] const Vertex& vertex(int x) const { return vertices_[static_cast<std::size_t>(x)]; }
+  [[nodiscard]] int vertex_count() const { return static_cast<int>(vertices_.size()); }
+  /// The region's faces, by slot (dead ones included, alive false).
+  [[nodiscard]] const std::vector<Face>& faces() const { return faces_; }
+  /// The cut of edge (x, y), made once per welded edge; an index for cut().
+  int edge_cut(int x, int y);
+  [[nodiscard]] const EdgeCut& cut(int i) const { return cuts_[static_cast<std::size_t>(i)]; }
+  /// Red-green refinement of `red_faces` (no T-junctions).
+  void refine(const std::vector<int>& red_faces);
+
+ private:
+
   // ---- analyse ----
 
   /// The faces that meet the drill, by a breadth-first search from `seeds` through such faces.
@@ -214,8 +227,6 @@ class Driller {
 
   // ---- the cylinder against an edge: edge_cut, then its steps in order ----
 
-  /// The cut of edge (x, y), made once per welded edge; an index into cuts_.
-  int edge_cut(int x, int y);
   [[nodiscard]] EdgeQuadratic quadratic(const Vertex& a, const Vertex& b) const;
   /// Adds the points where the edge crosses the cylinder (0, 1 or 2).
   void cylinder_roots(const Vertex& a, const Vertex& b, const EdgeQuadratic& f, EdgeCut& e) const;
@@ -238,8 +249,6 @@ class Driller {
   [[nodiscard]] bool too_coarse(const Pass& pass, const std::vector<Rim>& rims) const;
   [[nodiscard]] static std::vector<int> rim_faces(const Pass& pass);
   [[nodiscard]] static int rim_points(const Rim& rim);
-  /// Red-green refinement of `red_faces` (no T-junctions).
-  void refine(const std::vector<int>& red_faces);
   RedGreen red_green(const std::vector<int>& red_faces);
   void split_red(int slot);
   void split_green(int slot, const FlatMap<char>& split);
@@ -279,9 +288,7 @@ class Driller {
   // ---- the region: vertices and faces, pulled in from the input on demand ----
 
   void probe(Vertex& v) const;
-  int add_vertex(const Vertex& v);
   int local_of_old(int old);
-  [[nodiscard]] const Vertex& vertex(int x) const { return vertices_[static_cast<std::size_t>(x)]; }
   [[nodiscard]] int weld(int x) const { return vertex(x).weld; }
   [[nodiscard]] std::pair<int, int> canonical(int a, int b) const;
   [[nodiscard]] Eigen::Vector3d projected(int x) const;

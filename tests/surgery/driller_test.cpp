@@ -16,39 +16,22 @@
 
 #include "surgery/surgery_fixtures.hpp"
 
-namespace cgamesh::surgery::detail {
-
-/// The tests' way into the Driller's private steps.
-struct DrillerPeer {
-  /// A point of the region at `p`, not from the mesh, with its own welded id.
-  static int add_point(Driller& d, const Eigen::Vector3d& p, int weld) {
-    Vertex v;
-    v.placed = p;
-    v.weld = weld;
-    return d.add_vertex(v);
-  }
-  static Vertex vertex(const Driller& d, int x) { return d.vertex(x); }
-  static int vertex_count(const Driller& d) { return static_cast<int>(d.vertices_.size()); }
-  static const std::vector<Face>& faces(const Driller& d) { return d.faces_; }
-  static int edge_cut(Driller& d, int x, int y) { return d.edge_cut(x, y); }
-  static EdgeCut cut(const Driller& d, int i) { return d.cuts_[static_cast<std::size_t>(i)]; }
-  static std::vector<int> slots_of(Driller& d, const std::vector<int>& faces) { return d.slots_of(faces); }
-  static Pass analyse(Driller& d, const std::vector<int>& seeds) { return d.analyse(seeds); }
-  static std::vector<Rim> find_rims(const Driller& d, const Pass& pass) { return d.find_rims(pass); }
-  static void refine(Driller& d, const std::vector<int>& red_faces) { d.refine(red_faces); }
-};
-
-}  // namespace cgamesh::surgery::detail
-
 namespace {
 
 using namespace cgamesh;
 using namespace cgamesh_test;
 using surgery::detail::Driller;
-using surgery::detail::DrillerPeer;
 using surgery::detail::EdgeCut;
 using surgery::detail::Vertex;
 using V3 = Eigen::Vector3d;
+
+/// A point of the region at `p`, not from the mesh, with its own welded id.
+int add_point(Driller& d, const Eigen::Vector3d& p, int weld) {
+  Vertex v;
+  v.placed = p;
+  v.weld = weld;
+  return d.add_vertex(v);
+}
 
 /// A Driller over a flat n×n grid, with everything it refers to.
 struct GridDrill {
@@ -79,15 +62,15 @@ TEST(Driller, ProbeGivesRhoSquaredMinusRSquaredAndTheHeight) {
     options.predicates = predicates;
     GridDrill g(2, tip, base, 0.5, options);
     const Vertex outside =
-        DrillerPeer::vertex(g.driller, DrillerPeer::add_point(g.driller, base + 1.5 * axis + 0.9 * u, 100));
+        g.driller.vertex(add_point(g.driller, base + 1.5 * axis + 0.9 * u, 100));
     EXPECT_NEAR(outside.s, 0.9 * 0.9 - 0.5 * 0.5, 1e-12);
     EXPECT_NEAR(outside.h, 1.5, 1e-12);
     const Vertex below =
-        DrillerPeer::vertex(g.driller, DrillerPeer::add_point(g.driller, base - 0.7 * axis + 0.2 * u, 101));
+        g.driller.vertex(add_point(g.driller, base - 0.7 * axis + 0.2 * u, 101));
     EXPECT_NEAR(below.s, 0.2 * 0.2 - 0.5 * 0.5, 1e-12);
     EXPECT_NEAR(below.h, -0.7, 1e-12);
     // On the cylinder and in the tip's plane: snapped to exactly 0 and |AB|.
-    const Vertex on = DrillerPeer::vertex(g.driller, DrillerPeer::add_point(g.driller, base + 3 * axis + 0.5 * u, 102));
+    const Vertex on = g.driller.vertex(add_point(g.driller, base + 3 * axis + 0.5 * u, 102));
     EXPECT_EQ(on.s, 0.0);
     EXPECT_EQ(on.h, g.cylinder.length);
   }
@@ -107,11 +90,11 @@ TEST(Driller, EdgeCutFindsTheCylinderAndEndDiskCrossingsOnTheEdge) {
   };
   // The ends get increasing welded ids, so that the cut runs from a to b.
   const auto cut = [&](const V3& a, const V3& b) {
-    const int x = DrillerPeer::add_point(g.driller, a, next_weld++),
-              y = DrillerPeer::add_point(g.driller, b, next_weld++);
-    const int i = DrillerPeer::edge_cut(g.driller, x, y);
-    EXPECT_EQ(DrillerPeer::edge_cut(g.driller, y, x), i) << "one cut per edge, whichever way round";
-    return Cut{a, b, DrillerPeer::cut(g.driller, i)};
+    const int x = add_point(g.driller, a, next_weld++),
+              y = add_point(g.driller, b, next_weld++);
+    const int i = g.driller.edge_cut(x, y);
+    EXPECT_EQ(g.driller.edge_cut(y, x), i) << "one cut per edge, whichever way round";
+    return Cut{a, b, g.driller.cut(i)};
   };
 
   const Cut miss = cut(V3(-2, 1.5, 0), V3(2, 1.5, 0));
@@ -168,14 +151,14 @@ TEST(Driller, AnalysisOfAGridKeepsWhatIsOutsideAndFindsOneClosedRimOnTheCylinder
   GridDrill g(10, V3(cx, cy, 1), V3(cx, cy, -1), r);
   std::vector<int> faces(200);
   std::iota(faces.begin(), faces.end(), 0);
-  const surgery::detail::Pass pass = DrillerPeer::analyse(g.driller, DrillerPeer::slots_of(g.driller, faces));
+  const surgery::detail::Pass pass = g.driller.analyse(g.driller.slots_of(faces));
   ASSERT_FALSE(pass.affected.empty());
   EXPECT_EQ(pass.disks_inside, 0);
   EXPECT_EQ(pass.coarse_arcs, 0);
-  const auto point = [&](int x) { return DrillerPeer::vertex(g.driller, x).placed; };
-  for (const int x : pass.corners) EXPECT_GE(DrillerPeer::vertex(g.driller, x).s, 0.0) << "a kept corner in the hole";
+  const auto point = [&](int x) { return g.driller.vertex(x).placed; };
+  for (const int x : pass.corners) EXPECT_GE(g.driller.vertex(x).s, 0.0) << "a kept corner in the hole";
 
-  const std::vector<surgery::detail::Rim> rims = DrillerPeer::find_rims(g.driller, pass);
+  const std::vector<surgery::detail::Rim> rims = g.driller.find_rims(pass);
   ASSERT_EQ(rims.size(), 1u);
   const surgery::detail::Rim& rim = rims[0];
   EXPECT_TRUE(rim.closed);
@@ -184,7 +167,7 @@ TEST(Driller, AnalysisOfAGridKeepsWhatIsOutsideAndFindsOneClosedRimOnTheCylinder
   for (std::size_t i = 0; i < rim.chords.size(); ++i) {
     const surgery::detail::Chord& c = pass.chords[static_cast<std::size_t>(rim.chords[i])];
     const surgery::detail::Chord& next = pass.chords[static_cast<std::size_t>(rim.chords[(i + 1) % rim.chords.size()])];
-    EXPECT_EQ(DrillerPeer::vertex(g.driller, c.e).weld, DrillerPeer::vertex(g.driller, next.p).weld)
+    EXPECT_EQ(g.driller.vertex(c.e).weld, g.driller.vertex(next.p).weld)
         << "chord " << i << " does not lead to the next";
     EXPECT_NEAR(from_axis(point(c.p), cx, cy), r, 1e-9) << "chord " << i;
     const V3 p = point(c.p) - V3(cx, cy, 0), e = point(c.e) - V3(cx, cy, 0);
@@ -206,16 +189,16 @@ TEST(Driller, AnalysisOfAGridKeepsWhatIsOutsideAndFindsOneClosedRimOnTheCylinder
 
 TEST(Driller, RefineSplitsARedFaceIntoFourAndItsNeighbourIntoTwoAtTheSameMidpoint) {
   GridDrill g(1, V3(0.3, 0.3, 1), V3(0.3, 0.3, -1), 0.1);
-  DrillerPeer::refine(g.driller, DrillerPeer::slots_of(g.driller, {0}));
+  g.driller.refine(g.driller.slots_of({0}));
   // Four corners and three midpoints: the green face is split at the red one's midpoint.
-  EXPECT_EQ(DrillerPeer::vertex_count(g.driller), 7);
+  EXPECT_EQ(g.driller.vertex_count(), 7);
   int red = 0, green = 0;
   double area = 0;
-  for (const surgery::detail::Face& f : DrillerPeer::faces(g.driller)) {
+  for (const surgery::detail::Face& f : g.driller.faces()) {
     if (!f.alive) continue;
     EXPECT_FALSE(f.original);
-    const V3 a = DrillerPeer::vertex(g.driller, f.v[0]).placed, b = DrillerPeer::vertex(g.driller, f.v[1]).placed,
-             c = DrillerPeer::vertex(g.driller, f.v[2]).placed;
+    const V3 a = g.driller.vertex(f.v[0]).placed, b = g.driller.vertex(f.v[1]).placed,
+             c = g.driller.vertex(f.v[2]).placed;
     const double z = 0.5 * (b - a).cross(c - a).z();
     EXPECT_GT(z, 0.1) << "flipped or sliver";
     area += z;
