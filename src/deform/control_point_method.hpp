@@ -45,6 +45,10 @@ class ControlPointMethod : public BoundMethod {
         keys_of_point_(std::move(keys_of_point)),
         points_(std::move(points)) {}
 
+ protected:
+  Deformer deformer_;
+
+ private:
   void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport*) const final {
     if (variant_ == FfdVariant::motor) {
       std::vector<cga::Versor<double>> motors(keys_of_point_.size(),
@@ -63,10 +67,6 @@ class ControlPointMethod : public BoundMethod {
     return moved_points(keys_of_point_, keys, points_);
   }
 
- protected:
-  Deformer deformer_;
-
- private:
   FfdVariant variant_;
   std::vector<std::vector<int>> keys_of_point_;
   std::vector<Eigen::Vector3d> points_;

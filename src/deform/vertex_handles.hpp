@@ -38,9 +38,6 @@ struct HandledShape {
 
 /// A method over a HandledShape: deform() moves the shape's vertices, the free parts follow.
 class VertexHandleMethod : public BoundMethod {
- public:
-  void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport* report) const final;
-
  protected:
   VertexHandleMethod(const HandledShape& shape, const mesh::RowMatrixXf<3>& rest, std::vector<int> free);
   /// One frame of the handled shape: #shape×3 positions.
@@ -48,6 +45,8 @@ class VertexHandleMethod : public BoundMethod {
                       ArapReport* report) const = 0;
 
  private:
+  void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport* report) const final;
+
   mesh::RowMatrixXf<3> rest_;
   std::vector<int> blended_, free_, free_key_;
 };

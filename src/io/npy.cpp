@@ -33,7 +33,8 @@ void write_npy(const std::filesystem::path& path, const Eigen::MatrixXd& values)
   bytes += header;
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows = values;
   static_assert(std::endian::native == std::endian::little, "the .npy writer assumes a little-endian machine");
-  bytes.append(reinterpret_cast<const char*>(rows.data()), static_cast<std::size_t>(rows.size()) * sizeof(double));
+  if (rows.size() > 0)
+    bytes.append(reinterpret_cast<const char*>(rows.data()), static_cast<std::size_t>(rows.size()) * sizeof(double));
   write_file_atomically(path, bytes);
 }
 
@@ -78,7 +79,7 @@ Eigen::MatrixXd read_npy(const std::filesystem::path& path, const std::string& w
       static_cast<unsigned long long>(rows) * static_cast<unsigned long long>(cols) != available)
     throw bad("the data is not " + std::to_string(rows) + "x" + std::to_string(cols) + " float64 values (truncated?)");
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> values(rows, cols);
-  std::memcpy(values.data(), bytes.data() + data, available * sizeof(double));
+  if (available > 0) std::memcpy(values.data(), bytes.data() + data, available * sizeof(double));  // data() of none is null
   return values;
 }
 

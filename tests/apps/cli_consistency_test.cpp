@@ -25,16 +25,9 @@ using Json = nlohmann::json;
 
 fs::path cesium() { return cgamesh_test::demo_model(); }
 
-/// The joint of CesiumMan that skins the most vertices (their largest weight).
+/// The joint of CesiumMan that the most vertices hang from, found once.
 std::string busy_joint() {
-  static const std::string name = [] {
-    const cgamesh::anim::RiggedModel m = cgamesh::io::load_model(cesium());
-    const cgamesh::mesh::Mesh& mesh = m.meshes.at(0);
-    std::vector<int> count(mesh.skin.palette.size(), 0);
-    for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) ++count[mesh.skin.joints(v, 0)];
-    const auto best = std::max_element(count.begin(), count.end()) - count.begin();
-    return std::string(m.skeleton.names()[mesh.skin.palette[static_cast<std::size_t>(best)]]);
-  }();
+  static const std::string name = cgamesh_test::busiest_joint(cesium());
   return name;
 }
 

@@ -49,21 +49,23 @@ struct SpecBindOptions {
 };
 
 /// One method bound to one mesh: the per-frame half of a binder (the one small interface every
-/// method implements).
+/// method implements). Its frames run through BoundDeformer, which checks the keys' count first.
 class BoundMethod {
  public:
   virtual ~BoundMethod() = default;
-  /// One frame in the bound space: #V×3 positions under `keys` (their count already checked
-  /// against the bound keys).
+  /// The bound lattice (ffd), else null.
+  [[nodiscard]] virtual const FreeFormDeformation* ffd() const noexcept { return nullptr; }
+  /// The bound cage (cage), else null.
+  [[nodiscard]] virtual const CageDeformation* cage() const noexcept { return nullptr; }
+
+ private:
+  friend class BoundDeformer;
+  /// One frame in the bound space: #V×3 positions under `keys` (as many as the bound keys).
   /// @throws InvalidInputError when a key is not a similarity; SolverError when a solve fails.
   virtual void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out,
                      ArapReport* report) const = 0;
   /// ffd, cage: the control points under `keys` (BoundDeformer::control_points); else empty.
   [[nodiscard]] virtual std::vector<Eigen::Vector3d> control_points(std::span<const cga::Versor<double>> keys) const;
-  /// The bound lattice (ffd), else null.
-  [[nodiscard]] virtual const FreeFormDeformation* ffd() const noexcept { return nullptr; }
-  /// The bound cage (cage), else null.
-  [[nodiscard]] virtual const CageDeformation* cage() const noexcept { return nullptr; }
 };
 
 /// What a binder resolves besides its BoundMethod: BoundDeformer's accessors.
