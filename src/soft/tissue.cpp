@@ -5,9 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <limits>
-#include <queue>
 #include <string>
 #include <utility>
 
@@ -60,23 +58,16 @@ Tissue::Tissue(const surgery::LiveModel& live, const TissueOptions& options) : o
   Eigen::AlignedBox3d box;
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     const mesh::Mesh& m = model.meshes[i];
-    ChunkedArray<double> mass(static_cast<std::size_t>(m.vertex_count()), 0.0);
+    ChunkedArray<VertexState> state(static_cast<std::size_t>(m.vertex_count()), VertexState{});
     for (Eigen::Index f = 0; f < m.face_count(); ++f) {
       const int a = m.faces(f, 0), b = m.faces(f, 1), c = m.faces(f, 2);
       const Eigen::Vector3d pa = row(placed.positions[i], a);
       const double area = 0.5 * (row(placed.positions[i], b) - pa).cross(row(placed.positions[i], c) - pa).norm();
-      for (const int v : {a, b, c}) mass[static_cast<std::size_t>(v)] += options_.density * area / 3;
+      for (const int v : {a, b, c}) state[static_cast<std::size_t>(v)].mass += options_.density * area / 3;
     }
     for (Eigen::Index v = 0; v < m.vertex_count(); ++v) box.extend(row(placed.positions[i], static_cast<int>(v)));
-    mass_.push_back(std::move(mass));
-    particle_of_.emplace_back(static_cast<std::size_t>(m.vertex_count()), -1);
-    class_of_.emplace_back(static_cast<std::size_t>(m.vertex_count()), std::array<int, 2>{0, -1});
+    state_.push_back(std::move(state));
     face_mark_.emplace_back(static_cast<std::size_t>(m.face_count()), 0);
-    vertex_mark_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0);
-    vertex_reach_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0.0f);
-    vx_.emplace_back(static_cast<std::size_t>(m.vertex_count()), Eigen::Vector3d::Zero());
-    vv_.emplace_back(static_cast<std::size_t>(m.vertex_count()), Eigen::Vector3d::Zero());
-    saved_.emplace_back(static_cast<std::size_t>(m.vertex_count()), 0);
   }
   diagonal_ = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-12);
   radius_ = options_.region_radius > 0 ? options_.region_radius : 0.1 * diagonal_;
@@ -86,7 +77,7 @@ Tissue::Tissue(const surgery::LiveModel& live, const TissueOptions& options) : o
 void Tissue::set_options(const surgery::LiveModel& live, const TissueOptions& options) {
   options.validate();
   const double density_ratio = options.density / options_.density;
-  for (auto& m : mass_) m.for_each([&](double& x) { x *= density_ratio; });
+  for (auto& m : state_) m.for_each([&](VertexState& u) { u.mass *= density_ratio; });
   options_ = options;
   radius_ = options_.region_radius > 0 ? options_.region_radius : 0.1 * diagonal_;
   margin_ = options_.release_margin > 0 ? options_.release_margin : 0.25 * radius_;
@@ -106,7 +97,7 @@ Eigen::Vector3d Tissue::momentum() const noexcept {
 
 double Tissue::total_mass() const noexcept {
   double total = 0;
-  for (const auto& m : mass_) m.for_each([&](double x) { total += x; });
+  for (const auto& m : state_) m.for_each([&](const VertexState& u) { total += u.mass; });
   return total;
 }
 
@@ -125,24 +116,21 @@ void Tissue::follow(const surgery::LiveModel& live, std::span<const surgery::Mes
   save_state();
   for (const surgery::MeshChange& c : changes) {
     if (c.mesh < 0 || c.mesh >= static_cast<int>(model.meshes.size()) ||
-        static_cast<std::size_t>(c.mesh) >= mass_.size())
+        static_cast<std::size_t>(c.mesh) >= state_.size())
       throw InvalidInputError("tissue: a change names mesh " + std::to_string(c.mesh) + " of " +
-                              std::to_string(mass_.size()));
+                              std::to_string(state_.size()));
     const auto i = static_cast<std::size_t>(c.mesh);
     const mesh::Mesh& m = model.meshes[i];
     const auto nv = static_cast<std::size_t>(m.vertex_count());
-    if (c.first_new_vertex < 0 || static_cast<std::size_t>(c.first_new_vertex) != mass_[i].size() ||
+    if (c.first_new_vertex < 0 || static_cast<std::size_t>(c.first_new_vertex) != state_[i].size() ||
         static_cast<std::size_t>(c.first_new_vertex) + c.origins.size() != nv)
       throw InvalidInputError("tissue: the change of mesh " + std::to_string(c.mesh) +
-                              " does not follow the last one the tissue saw (" + std::to_string(mass_[i].size()) +
+                              " does not follow the last one the tissue saw (" + std::to_string(state_[i].size()) +
                               " vertices known, " + std::to_string(c.first_new_vertex) + " + " +
                               std::to_string(c.origins.size()) + " in the change, " + std::to_string(nv) +
                               " in the mesh)");
-    mass_[i].resize(nv, 0.0);
-    particle_of_[i].resize(nv, -1);
-    vx_[i].resize(nv, Eigen::Vector3d::Zero());
-    vv_[i].resize(nv, Eigen::Vector3d::Zero());
-    saved_[i].resize(nv, 0);
+    ChunkedArray<VertexState>& state = state_[i];
+    state.resize(nv, VertexState{});
     const mesh::RowMatrixXf<3>& placed = live.placement().positions[i];
     std::vector<int> centers;
     for (std::size_t k = 0; k < c.origins.size(); ++k) {
@@ -155,16 +143,17 @@ void Tissue::follow(const surgery::LiveModel& live, std::span<const surgery::Mes
         if (src >= static_cast<std::size_t>(c.first_new_vertex))
           throw InvalidInputError("tissue: a new vertex's origin is not a vertex from before the change");
         // Half of each source's share moves to the new vertex: the total stays.
-        const double share = 0.5 * w * mass_[i][src];
-        mass_[i][src] -= share;
-        mass_[i][v] += share;
-        const bool known = saved_[i][src] == generation_;
-        x += w * (known ? vx_[i][src] : row(placed, static_cast<int>(src)));
-        if (known) vel += w * vv_[i][src];
+        VertexState& from = state[src];
+        const double share = 0.5 * w * from.mass;
+        from.mass -= share;
+        state[v].mass += share;
+        const bool known = from.saved == generation_;
+        x += w * (known ? from.x : row(placed, static_cast<int>(src)));
+        if (known) vel += w * from.v;
       }
-      vx_[i][v] = x;
-      vv_[i][v] = vel;
-      saved_[i][v] = generation_;
+      state[v].x = x;
+      state[v].v = vel;
+      state[v].saved = generation_;
       const Eigen::Vector3d p = row(placed, static_cast<int>(v));
       // One ball per stretch of the wound: a new vertex farther than half a margin from the
       // centres so far, this change's and earlier ones' (a long stroke adds few balls).
@@ -198,10 +187,11 @@ void Tissue::save_state() {
   for (std::size_t k = 0; k < members_.size(); ++k) {
     const Member& u = members_[k];
     const auto i = static_cast<std::size_t>(u.mesh), v = static_cast<std::size_t>(u.vertex);
-    vx_[i][v] = x_[static_cast<std::size_t>(u.particle)];
-    vv_[i][v] = v_[static_cast<std::size_t>(u.particle)];
-    saved_[i][v] = generation_;
-    particle_of_[i][v] = -1;
+    VertexState& s = state_[i][v];
+    s.x = x_[static_cast<std::size_t>(u.particle)];
+    s.v = v_[static_cast<std::size_t>(u.particle)];
+    s.saved = generation_;
+    s.particle = -1;
   }
   members_.clear();
 }
@@ -212,24 +202,27 @@ std::vector<Eigen::Vector4d> Tissue::spheres(const std::vector<Ball>& balls, int
   for (const Ball& b : balls)
     if (b.mesh == mesh) {
       const Eigen::Vector3d c = b.center(placed);
-      out.emplace_back(c.x(), c.y(), c.z(), 1.0 / std::max(b.radius, 1e-300));
+      const double r = std::max(b.radius, 1e-150);
+      out.emplace_back(c.x(), c.y(), c.z(), 1.0 / (r * r));
     }
   return out;
 }
 
 double Tissue::reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::Vector3d& p) {
+  // The least of |p − centre|² / radius², then one root.
   double best = INFINITY;
-  for (const Eigen::Vector4d& s : spheres) best = std::min(best, (p - s.head<3>()).norm() * s.w());
-  return best;
+  for (const Eigen::Vector4d& s : spheres) best = std::min(best, (p - s.head<3>()).squaredNorm() * s.w());
+  return std::sqrt(best);
 }
 
 float Tissue::vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v) {
   const auto k = static_cast<std::size_t>(v);
-  if (vertex_mark_[mesh][k] != reach_mark_) {
-    vertex_mark_[mesh][k] = reach_mark_;
-    vertex_reach_[mesh][k] = static_cast<float>(reach(region_spheres_[mesh], row(live.placement().positions[mesh], v)));
+  VertexState& s = state_[mesh][k];
+  if (s.reach_mark != reach_mark_) {
+    s.reach_mark = reach_mark_;
+    s.reach = static_cast<float>(reach(region_spheres_[mesh], row(live.placement().positions[mesh], v)));
   }
-  return vertex_reach_[mesh][k];
+  return s.reach;
 }
 
 std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& live) {
@@ -246,8 +239,8 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
   // its index in `faces` (ties go to the first pushed, as the walk is deterministic).
   std::vector<std::pair<int, int>>& faces = candidates_;
   faces.clear();
-  std::vector<std::uint64_t>& heap = heap_;
-  heap.clear();
+  ReachQueue& queue = queue_;
+  queue.clear();
   region_spheres_.resize(model.meshes.size());
   ++mark_;
   reach_mark_ = mark_;
@@ -259,15 +252,12 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
     float r = INFINITY;
     for (int k = 0; k < 3; ++k) r = std::min(r, vertex_reach(live, i, m.faces(f, k)));
     if (r < 1) {
-      heap.push_back(std::uint64_t{std::bit_cast<std::uint32_t>(r)} << 32 | faces.size());
-      std::push_heap(heap.begin(), heap.end(), std::greater<>());
+      queue.push(std::uint64_t{std::bit_cast<std::uint32_t>(r)} << 32 | faces.size());
       faces.emplace_back(static_cast<int>(i), f);
     }
   };
   for (std::size_t i = 0; i < model.meshes.size(); ++i) {
     face_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].face_count()), 0);
-    vertex_mark_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0);
-    vertex_reach_[i].resize(static_cast<std::size_t>(model.meshes[i].vertex_count()), 0.0f);
     region_spheres_[i] = spheres(balls_, static_cast<int>(i), live.placement());
     std::vector<int> seeds;
     for (const Ball& b : balls_) {
@@ -284,14 +274,13 @@ std::vector<std::vector<int>> Tissue::region_faces(const surgery::LiveModel& liv
   std::vector<std::vector<int>> out(model.meshes.size());
   std::size_t taken = 0;
   scale_ = 1;
-  while (!heap.empty()) {
-    const std::uint64_t top = heap.front();
+  while (!queue.empty()) {
+    const std::uint64_t top = queue.top();
     if (taken == budget) {
       scale_ = std::bit_cast<float>(static_cast<std::uint32_t>(top >> 32));
       break;
     }
-    std::pop_heap(heap.begin(), heap.end(), std::greater<>());
-    heap.pop_back();
+    queue.pop();
     ++taken;
     const auto [mesh, face] = faces[static_cast<std::size_t>(top & 0xffffffffu)];
     const auto i = static_cast<std::size_t>(mesh);
@@ -331,28 +320,27 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
     const ChunkedArray<int>& in_region = face_mark_[i];
     const std::vector<Eigen::Vector4d> release_spheres = spheres(releases_, static_cast<int>(i), live.placement());
     // Particles: one per welded class of the faces' corners.
-    class_of_[i].resize(static_cast<std::size_t>(m.vertex_count()), {0, -1});
     const auto particle = [&](int v) {
-      int& pv = particle_of_[i][static_cast<std::size_t>(v)];
+      VertexState& sv = state_[i][static_cast<std::size_t>(v)];
+      int& pv = sv.particle;
       if (pv >= 0) return pv;
       const int rep = index.weld[static_cast<std::size_t>(v)];
-      std::array<int, 2>& cls = class_of_[i][static_cast<std::size_t>(rep)];
+      VertexState& sr = state_[i][static_cast<std::size_t>(rep)];
+      std::array<int, 2>& cls = sr.cls;
       if (cls[0] != mark_) {
         cls = {mark_, static_cast<int>(x_.size())};
         const Eigen::Vector3d at = row(placed, rep);
-        const int known = saved_[i][static_cast<std::size_t>(rep)] == generation_ ? rep
-                          : saved_[i][static_cast<std::size_t>(v)] == generation_  ? v
-                                                                                    : -1;
+        const VertexState* known = sr.saved == generation_ ? &sr : sv.saved == generation_ ? &sv : nullptr;
         ref_.push_back({static_cast<int>(i), rep});
-        x_.push_back(known >= 0 ? vx_[i][static_cast<std::size_t>(known)] : at);
-        v_.push_back(known >= 0 ? vv_[i][static_cast<std::size_t>(known)] : Eigen::Vector3d::Zero());
+        x_.push_back(known != nullptr ? known->x : at);
+        v_.push_back(known != nullptr ? known->v : Eigen::Vector3d::Zero());
         free_.push_back(vertex_reach(live, i, v) < scale_ ? 1 : 0);
         attached_.push_back(reach(release_spheres, at) < scale_ ? 0 : 1);
         particle_mass.push_back(0.0);
       }
       pv = cls[1];
       members_.push_back({static_cast<int>(i), v, pv});
-      particle_mass[static_cast<std::size_t>(pv)] += mass_[i][static_cast<std::size_t>(v)];
+      particle_mass[static_cast<std::size_t>(pv)] += sv.mass;
       return pv;
     };
     for (const int f : faces) {
@@ -459,23 +447,26 @@ void Tissue::targets_in(const surgery::LiveModel& live, const anim::Pose& pose,
   }
 }
 
-void Tissue::substep(const std::vector<Eigen::Vector3d>& t, double alpha, double h) {
+void Tissue::substep(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to, double alpha,
+                     double h) {
   const std::size_t n = x_.size();
   std::vector<Eigen::Vector3d>& before = scratch_;
-  before = x_;
+  before.resize(n);
+  // One pass over the particles (a pass each was a sixth of the substep): the target, the
+  // prediction, then the attachment (one Gauss-Seidel pass per substep, small steps: λ starts
+  // at 0 each substep).
+  const double attach = options_.attachment_compliance / (h * h);
   for (std::size_t p = 0; p < n; ++p) {
+    before[p] = x_[p];
+    const Eigen::Vector3d t = (1 - alpha) * from[p] + alpha * to[p];
     if (free_[p] == 0) {
-      x_[p] = t[p];
+      x_[p] = t;
       continue;
     }
     v_[p] += h * options_.gravity;
     x_[p] += h * v_[p];
-  }
-  // One Gauss-Seidel pass per substep (small steps): λ starts at 0 each substep.
-  const double attach = options_.attachment_compliance / (h * h);
-  for (std::size_t p = 0; p < n; ++p) {
-    if (free_[p] == 0 || attached_[p] == 0) continue;
-    const Eigen::Vector3d d = x_[p] - t[p];
+    if (attached_[p] == 0) continue;
+    const Eigen::Vector3d d = x_[p] - t;
     x_[p] -= d * (inverse_mass_[p] / (inverse_mass_[p] + attach));
   }
   Eigen::Vector3d* const x = x_.data();
@@ -521,7 +512,6 @@ void Tissue::step(const surgery::LiveModel& live, const anim::Pose& pose, double
   const double h = options_.substep;
   const auto steps = static_cast<long>(std::floor((dt + carried_) / h));
   const std::vector<Eigen::Vector3d> x0 = x_, v0 = v_;
-  std::vector<Eigen::Vector3d> t(to.size());
   // Each link's t_a − t_b at the step's start (d0) and its change over the step (Δd), as
   // columns: the substeps read them in order instead of gathering targets.
   rest_.resize(static_cast<Eigen::Index>(links_.size()), 6);
@@ -532,8 +522,7 @@ void Tissue::step(const surgery::LiveModel& live, const anim::Pose& pose, double
   }
   for (long s = 1; s <= steps; ++s) {
     const double a = static_cast<double>(s) / static_cast<double>(steps);
-    for (std::size_t p = 0; p < t.size(); ++p) t[p] = (1 - a) * from[p] + a * to[p];
-    substep(t, a, h);
+    substep(from, to, a, h);
   }
   for (std::size_t p = 0; p < x_.size(); ++p)
     if (!x_[p].allFinite() || (x_[p] - to[p]).norm() > 10 * diagonal_) {

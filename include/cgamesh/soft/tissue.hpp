@@ -23,6 +23,7 @@
 #include "cgamesh/anim/rigged_model.hpp"
 #include "cgamesh/mesh/row_array.hpp"
 #include "cgamesh/soft/chunked_array.hpp"
+#include "cgamesh/soft/reach_queue.hpp"
 #include "cgamesh/soft/tissue_options.hpp"
 #include "cgamesh/surgery/live_model.hpp"
 
@@ -127,13 +128,13 @@ class Tissue {
 
   /// Writes the particles' state back to their vertices and empties the region's particles.
   void save_state();
-  /// The balls of mesh `mesh` as (centre, 1 / radius).
+  /// The balls of mesh `mesh` as (centre, 1 / radius²).
   [[nodiscard]] static std::vector<Eigen::Vector4d> spheres(const std::vector<Ball>& balls, int mesh,
                                                             const surgery::Placement& placed);
   /// The least over `spheres` of |p − centre| / radius.
   [[nodiscard]] static double reach(const std::vector<Eigen::Vector4d>& spheres, const Eigen::Vector3d& p);
   /// reach(region_spheres_[mesh], placed vertex v of `mesh`), computed once per region query
-  /// (reach_mark_).
+  /// (reach_mark_, VertexState::reach).
   [[nodiscard]] float vertex_reach(const surgery::LiveModel& live, std::size_t mesh, int v);
   /// Per mesh, the faces of the region (nearest first) within options().max_particles; sets scale_ and
   /// marks them in face_mark_ with mark_.
@@ -145,36 +146,40 @@ class Tissue {
   void order_links();
   /// Skinned target of every particle in `pose` (palettes made once).
   void targets_in(const surgery::LiveModel& live, const anim::Pose& pose, std::vector<Eigen::Vector3d>& out) const;
-  /// One XPBD substep of length h towards targets `t`, `alpha` of the way through the step.
-  void substep(const std::vector<Eigen::Vector3d>& t, double alpha, double h);
+  /// One XPBD substep of length h towards the targets `alpha` of the way from `from` to `to`
+  /// (those of the step's start and end).
+  void substep(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to, double alpha,
+               double h);
 
   TissueOptions options_;
   double radius_ = 0, margin_ = 0, diagonal_ = 0;
   std::vector<Ball> balls_;     ///< the region: faces in these
   std::vector<Ball> releases_;  ///< particles in these have no attachment
-  // Per mesh, per vertex.
-  std::vector<ChunkedArray<double>> mass_;
-  std::vector<ChunkedArray<int>> particle_of_;  ///< −1: not in the region
-  std::vector<ChunkedArray<Eigen::Vector3d>> vx_, vv_;  ///< last known position and velocity
-  /// The save_state() that wrote vx_, vv_ (0: never): a vertex that left the region and comes
-  /// back has no state (its old one is from another time).
-  std::vector<ChunkedArray<int>> saved_;
+  /// What the tissue keeps of each vertex, in one record: one array grows with the mesh, and
+  /// a vertex the region visits is one or two cache lines.
+  struct VertexState {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();  ///< last known position and velocity
+    double mass = 0;
+    int particle = -1;  ///< −1: not in the region
+    /// The save_state() that wrote x and v (0: never): a vertex that left the region and comes
+    /// back has no state (its old one is from another time).
+    int saved = 0;
+    /// As a weld class's representative: the rebuild (mark_) that made its particle, and the particle.
+    std::array<int, 2> cls{0, -1};
+    int reach_mark = 0;  ///< the region query of `reach`
+    float reach = 0;     ///< in single precision, as the region's faces are ordered by it (region_faces())
+  };
+  std::vector<ChunkedArray<VertexState>> state_;  ///< per mesh, per vertex
   int generation_ = 0;
   /// The factor every ball is shrunk by to keep the region within the budget (1: none).
   double scale_ = 1;
   std::vector<ChunkedArray<int>> face_mark_;  ///< per mesh, per face: the region query that saw it
-  std::vector<ChunkedArray<int>> vertex_mark_;  ///< per mesh, per vertex: the query of its vertex_reach_
-  /// In single precision, as the region's faces are ordered by it (region_faces()).
-  std::vector<ChunkedArray<float>> vertex_reach_;
-  /// Per mesh, per weld class representative: the rebuild (mark_) that made its particle, and
-  /// the particle.
-  std::vector<ChunkedArray<std::array<int, 2>>> class_of_;
   std::vector<std::vector<Eigen::Vector4d>> region_spheres_;  ///< per mesh, the region's balls of the last query
   int mark_ = 0, reach_mark_ = 0;
   // Scratch of region_faces(), kept for their capacity: candidate faces (mesh, face) and the
-  // heap of their keys.
+  // queue of their keys.
   std::vector<std::pair<int, int>> candidates_;
-  std::vector<std::uint64_t> heap_;
+  ReachQueue queue_;
   // Per particle.
   std::vector<VertexRef> ref_;
   std::vector<Member> members_;
