@@ -135,7 +135,10 @@ HandledShape split_free_parts(const BindInput& in, LaplacianWeights weights, Fre
 
 VertexHandleMethod::VertexHandleMethod(const HandledShape& shape, const mesh::RowMatrixXf<3>& rest,
                                        std::vector<int> free)
-    : rest_(rest), blended_(shape.blended), free_(std::move(free)), free_key_(shape.free_key) {}
+    : rest_(shape.blended.empty() ? mesh::RowMatrixXf<3>() : rest),
+      blended_(shape.blended),
+      free_(std::move(free)),
+      free_key_(shape.free_key) {}
 
 void VertexHandleMethod::apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out,
                                ArapReport* report) const {

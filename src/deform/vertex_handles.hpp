@@ -47,7 +47,7 @@ class VertexHandleMethod : public BoundMethod {
  private:
   void apply(std::span<const cga::Versor<double>> keys, mesh::RowMatrixXf<3>& out, ArapReport* report) const final;
 
-  mesh::RowMatrixXf<3> rest_;
+  mesh::RowMatrixXf<3> rest_;  ///< #V×3, kept only when some part is free (blended_ not empty)
   std::vector<int> blended_, free_, free_key_;
 };
 

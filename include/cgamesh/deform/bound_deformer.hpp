@@ -33,10 +33,9 @@ namespace cgamesh::deform {
 /// (boxes from `info` then select what the user sees), mesh otherwise.
 [[nodiscard]] DeformSpace default_space(const anim::RiggedModel& model) noexcept;
 
-/// Every mesh of a model as an OBJ or PLY holds it: positions and unit normals, per mesh.
-/// Every mesh of `model` at rest in `space`: in mesh space its own positions and normals; in
-/// world space the bind pose (matrix skinning, eq. 16; normals by each vertex's cofactor, as
-/// anim::skin_normals()).
+/// Every mesh of `model` at rest in `space`, as an OBJ or PLY of it holds them (positions and
+/// unit normals, per mesh): in mesh space its own positions and normals; in world space the
+/// bind pose (matrix skinning, eq. 16; normals by each vertex's cofactor, as anim::skin_normals()).
 /// @throws InvalidInputError as anim::make_palette().
 [[nodiscard]] mesh::WorldSurface rest_surfaces(const anim::RiggedModel& model, DeformSpace space);
 
