@@ -9,6 +9,11 @@
 #include <string>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#include <emmintrin.h>
+#endif
+
 #include "cgamesh/anim/morph.hpp"
 #include "cgamesh/anim/skinning.hpp"
 #include "cgamesh/errors.hpp"
@@ -47,6 +52,39 @@ void unique_pairs(std::vector<std::uint64_t>& keys, std::size_t n) {
       if (s != a + 1) keys.push_back(sorted[j]);
       s = a + 1;
     }
+}
+
+/// The factors of links [begin, end) of one colour (as Tissue::substep() solves them): Δλ =
+/// −C / (w_a + w_b + α/h²) along d/|d|, with C = |d| − scale·|t_a − t_b|, gives the step s·d with
+/// s = Δλ/|d| = gain·(√(rest²/|d|²) − 1), rest = scale·(t_a − t_b) = d0 + alpha·Δd (`rest`: the
+/// columns of d0 and Δd, Tissue::step()); l2 = |d|². In single precision, four links per
+/// instruction (relative error 6e-8, far below the solver's): a frame streams its links' data,
+/// and this halves it. A zero |d| is floored and the ratio capped, so that s stays finite.
+/// `begin` and `end` are multiples of 4.
+void link_factors(const std::array<const float*, 6>& rest, std::size_t begin, std::size_t end, float alpha,
+                  const float* gain, const float* l2, float* s) {
+  for (std::size_t k = begin; k < end; k += 4) {
+#if defined(__SSE2__)
+    const __m128 a = _mm_set1_ps(alpha);
+    __m128 r2 = _mm_setzero_ps();
+    for (std::size_t c = 0; c < 3; ++c) {
+      const __m128 d = _mm_add_ps(_mm_loadu_ps(rest[c] + k), _mm_mul_ps(a, _mm_loadu_ps(rest[c + 3] + k)));
+      r2 = _mm_add_ps(r2, _mm_mul_ps(d, d));
+    }
+    const __m128 q =
+        _mm_min_ps(_mm_div_ps(r2, _mm_max_ps(_mm_loadu_ps(l2 + k), _mm_set1_ps(1e-30f))), _mm_set1_ps(1e30f));
+    _mm_storeu_ps(s + k, _mm_mul_ps(_mm_loadu_ps(gain + k), _mm_sub_ps(_mm_sqrt_ps(q), _mm_set1_ps(1.0f))));
+#else
+    for (std::size_t j = k; j < k + 4; ++j) {
+      float r2 = 0;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const float d = rest[c][j] + alpha * rest[c + 3][j];
+        r2 += d * d;
+      }
+      s[j] = gain[j] * (std::sqrt(std::min(r2 / std::max(l2[j], 1e-30f), 1e30f)) - 1.0f);
+    }
+#endif
+  }
 }
 
 }  // namespace
@@ -393,9 +431,9 @@ void Tissue::rebuild(const surgery::LiveModel& live) {
 
 void Tissue::order_links() {
   // Greedy colouring: a link takes the first colour that no earlier link at either of its
-  // particles has. Links of one colour share no particle, so substep() computes all their
-  // corrections before applying any (the same result as one after the other, Gauss-Seidel),
-  // and the processor overlaps their square roots and divisions.
+  // particles has. Links of one colour share no particle, so substep() computes their
+  // corrections in packets before applying them (the same result as one after the other,
+  // Gauss-Seidel).
   std::vector<std::uint64_t> used(x_.size(), 0);
   std::vector<int> colour(links_.size(), 0);
   for (std::size_t k = 0; k < links_.size(); ++k) {
@@ -407,31 +445,39 @@ void Tissue::order_links() {
     ua |= std::uint64_t{1} << c;
     ub |= std::uint64_t{1} << c;
   }
-  // Colour by colour, in the order made (a counting sort: stable, in time proportional to the links).
-  colour_begin_.assign(65, 0);
-  for (const int c : colour) ++colour_begin_[static_cast<std::size_t>(c) + 1];
-  std::size_t colours = 0;
-  for (std::size_t c = 1; c < colour_begin_.size(); ++c) {
-    if (colour_begin_[c] > 0) colours = c;
-    colour_begin_[c] += colour_begin_[c - 1];
+  // Colour by colour, in the order made (a counting sort: stable, in time proportional to the
+  // links), each colour padded to a multiple of 4 (substep()'s packets) with its last link again,
+  // with no gain.
+  std::vector<std::size_t> count(64, 0);
+  for (const int c : colour) ++count[static_cast<std::size_t>(c)];
+  colour_begin_.assign(1, 0);
+  std::vector<std::size_t> next;
+  // First fit leaves no colour unused below one that is used.
+  for (std::size_t c = 0; c < count.size() && count[c] > 0; ++c) {
+    next.push_back(colour_begin_.back());
+    colour_begin_.push_back(colour_begin_.back() + (count[c] + 3) / 4 * 4);
   }
-  colour_begin_.resize(colours + 1);
-  std::vector<std::size_t> next(colour_begin_.begin(), colour_begin_.end() - 1);
-  std::vector<Link> sorted(links_.size());
+  link_count_ = links_.size();
+  std::vector<Link> sorted(colour_begin_.back());
   for (std::size_t k = 0; k < links_.size(); ++k) sorted[next[static_cast<std::size_t>(colour[k])]++] = links_[k];
-  links_ = std::move(sorted);
   const double h2 = options_.substep * options_.substep;
-  link_gain_.resize(links_.size());
-  link_scale_.resize(links_.size());
-  for (std::size_t k = 0; k < links_.size(); ++k) {
-    Link& l = links_[k];
-    l.wa = inverse_mass_[static_cast<std::size_t>(l.a)];
-    l.wb = inverse_mass_[static_cast<std::size_t>(l.b)];
-    link_gain_[k] = 1.0 / (l.wa + l.wb + static_cast<double>(l.compliance) / h2);
-    link_scale_[k] = l.scale;
-  }
-  correction_.assign(links_.size(), 0.0);
-  length2_.assign(links_.size(), 0.0);
+  link_gain_.assign(sorted.size(), 0.0f);
+  for (std::size_t c = 0; c + 1 < colour_begin_.size(); ++c)
+    for (std::size_t k = colour_begin_[c]; k < colour_begin_[c + 1]; ++k) {
+      if (k >= next[c]) {
+        sorted[k] = sorted[next[c] - 1];
+        continue;
+      }
+      const Link& l = sorted[k];
+      link_gain_[k] = static_cast<float>(1.0 / (inverse_mass_[static_cast<std::size_t>(l.a)] +
+                                                inverse_mass_[static_cast<std::size_t>(l.b)] +
+                                                static_cast<double>(l.compliance) / h2));
+    }
+  links_ = std::move(sorted);
+  ends_.resize(links_.size());
+  for (std::size_t k = 0; k < links_.size(); ++k) ends_[k] = {links_[k].a, links_[k].b};
+  length2_.assign(links_.size(), 0.0f);
+  correction_.assign(links_.size(), 0.0f);
 }
 
 // ---- Simulation ----
@@ -469,34 +515,24 @@ void Tissue::substep(const std::vector<Eigen::Vector3d>& from, const std::vector
     const Eigen::Vector3d d = x_[p] - t;
     x_[p] -= d * (inverse_mass_[p] / (inverse_mass_[p] + attach));
   }
+  // Colour by colour: the links' |d|², their factors in packets, their steps. The links of a
+  // colour share no particle, so this is Gauss-Seidel's result. Padding has no gain: no step.
   Eigen::Vector3d* const x = x_.data();
-  const Link* const links = links_.data();
-  double* const s = correction_.data();
-  double* const len2 = length2_.data();
+  const double* const w = inverse_mass_.data();
+  const std::array<int, 2>* const ends = ends_.data();
+  float* const len2 = length2_.data();
+  float* const s = correction_.data();
+  const std::array<const float*, 6> rest{rest_.col(0).data(), rest_.col(1).data(), rest_.col(2).data(),
+                                         rest_.col(3).data(), rest_.col(4).data(), rest_.col(5).data()};
   for (std::size_t c = 0; c + 1 < colour_begin_.size(); ++c) {
     const std::size_t begin = colour_begin_[c], end = colour_begin_[c + 1];
+    for (std::size_t k = begin; k < end; ++k) len2[k] = static_cast<float>((x[ends[k][0]] - x[ends[k][1]]).squaredNorm());
+    link_factors(rest, begin, end, static_cast<float>(alpha), link_gain_.data(), len2, s);
     for (std::size_t k = begin; k < end; ++k) {
-      const Link& l = links[k];
-      len2[k] = (x[l.a] - x[l.b]).squaredNorm();
-    }
-    // Δλ = −C / (w_a + w_b + α/h²) along d/|d|, with C = |d| − scale·|t_a − t_b|; s = Δλ/|d|
-    // (the step is s·d) = gain·(scale·√(rest²/|d|²) − 1): one division and one root per link,
-    // in packets. t_a − t_b of the targets interpolated at `alpha` is d0 + alpha·Δd (step()).
-    // A zero |d| (d = 0, no step) is floored so that s stays finite.
-    const auto n = static_cast<Eigen::Index>(end - begin);
-    const auto b = static_cast<Eigen::Index>(begin);
-    const Eigen::Map<const Eigen::ArrayXd> l2(len2 + begin, n);
-    const auto r2 = (rest_.col(0).segment(b, n) + alpha * rest_.col(3).segment(b, n)).square() +
-                    (rest_.col(1).segment(b, n) + alpha * rest_.col(4).segment(b, n)).square() +
-                    (rest_.col(2).segment(b, n) + alpha * rest_.col(5).segment(b, n)).square();
-    Eigen::Map<Eigen::ArrayXd>(s + begin, n) =
-        Eigen::Map<const Eigen::ArrayXd>(link_gain_.data() + begin, n) *
-        (Eigen::Map<const Eigen::ArrayXd>(link_scale_.data() + begin, n) * (r2 / l2.max(1e-300)).sqrt() - 1.0);
-    for (std::size_t k = begin; k < end; ++k) {
-      const Link& l = links[k];
-      const Eigen::Vector3d g = (x[l.a] - x[l.b]) * s[k];
-      x[l.a] += l.wa * g;
-      x[l.b] -= l.wb * g;
+      const auto [a, b] = ends[k];
+      const Eigen::Vector3d g = (x[a] - x[b]) * static_cast<double>(s[k]);
+      x[a] += w[a] * g;
+      x[b] -= w[b] * g;
     }
   }
   const double keep = std::exp(-options_.damping * h);
@@ -512,13 +548,17 @@ void Tissue::step(const surgery::LiveModel& live, const anim::Pose& pose, double
   const double h = options_.substep;
   const auto steps = static_cast<long>(std::floor((dt + carried_) / h));
   const std::vector<Eigen::Vector3d> x0 = x_, v0 = v_;
-  // Each link's t_a − t_b at the step's start (d0) and its change over the step (Δd), as
-  // columns: the substeps read them in order instead of gathering targets.
+  // Each link's rest vector scale·(t_a − t_b) at the step's start (d0) and its change over the
+  // step (Δd), as columns: the substeps read them in order instead of gathering targets.
   rest_.resize(static_cast<Eigen::Index>(links_.size()), 6);
   for (std::size_t k = 0; k < links_.size(); ++k) {
     const auto a = static_cast<std::size_t>(links_[k].a), b = static_cast<std::size_t>(links_[k].b);
-    const Eigen::Vector3d d0 = from[a] - from[b], d1 = to[a] - to[b];
-    rest_.row(static_cast<Eigen::Index>(k)) << d0.x(), d0.y(), d0.z(), d1.x() - d0.x(), d1.y() - d0.y(), d1.z() - d0.z();
+    const double scale = links_[k].scale;
+    const Eigen::Vector3d d0 = scale * (from[a] - from[b]), dd = scale * (to[a] - to[b]) - d0;
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      rest_(static_cast<Eigen::Index>(k), c) = static_cast<float>(d0[c]);
+      rest_(static_cast<Eigen::Index>(k), c + 3) = static_cast<float>(dd[c]);
+    }
   }
   for (long s = 1; s <= steps; ++s) {
     const double a = static_cast<double>(s) / static_cast<double>(steps);

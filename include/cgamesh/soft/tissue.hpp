@@ -101,14 +101,13 @@ class Tissue {
   [[nodiscard]] std::size_t free_particles() const noexcept;
   /// All particles of the region (free and those pinned at its border).
   [[nodiscard]] std::size_t particles() const noexcept { return x_.size(); }
-  [[nodiscard]] std::size_t links() const noexcept { return links_.size(); }
+  [[nodiscard]] std::size_t links() const noexcept { return link_count_; }
 
  private:
   struct Link {
     int a, b;     ///< particles
     float scale;  ///< rest length: scale × the skinned distance
     float compliance;
-    double wa = 0, wb = 0;  ///< inverse masses
   };
   struct VertexRef {
     int mesh, vertex;  ///< the particle's representative vertex (its weld class's)
@@ -186,12 +185,15 @@ class Tissue {
   std::vector<Eigen::Vector3d> x_, v_, previous_target_, scratch_;
   std::vector<double> inverse_mass_;
   std::vector<char> free_, attached_;
-  std::vector<Link> links_;          ///< colour by colour
+  std::vector<Link> links_;  ///< colour by colour, each padded to a multiple of 4 (order_links())
+  std::size_t link_count_ = 0;  ///< without the padding
+  std::vector<std::array<int, 2>> ends_;  ///< per link, as in links_: its particles (what substeps read)
   std::vector<std::size_t> colour_begin_;  ///< first link of each colour, and the end (#colours + 1)
-  /// Per link, as in links_ (packets read them): 1 / (wa + wb + compliance / substep²), scale.
-  std::vector<double> link_gain_, link_scale_;
-  std::vector<double> correction_, length2_;  ///< per link, a substep's Δλ/|d| and |d|²
-  Eigen::ArrayXXd rest_;  ///< per link, t_a − t_b at the step's start and its change over the step (#links×6)
+  /// Per link, as in links_ (packets read them): 1 / (w_a + w_b + compliance / substep²), 0 for padding.
+  std::vector<float> link_gain_;
+  std::vector<float> length2_, correction_;  ///< per link, a substep's |d|² and Δλ/|d|
+  /// Per link, scale·(t_a − t_b) at the step's start and its change over the step (#links×6).
+  Eigen::ArrayXXf rest_;
   double carried_ = 0;  ///< simulated time owed from the last step (< substep)
   bool have_targets_ = false;
 };
