@@ -183,7 +183,7 @@ class Tissue {
   std::vector<VertexRef> ref_;
   std::vector<Member> members_;
   std::vector<Eigen::Vector3d> x_, v_, previous_target_, scratch_;
-  std::vector<double> inverse_mass_;
+  std::vector<double> inverse_mass_, attach_gain_;
   std::vector<char> free_, attached_;
   std::vector<Link> links_;  ///< colour by colour, each padded to a multiple of 4 (order_links())
   std::size_t link_count_ = 0;  ///< without the padding
