@@ -486,10 +486,17 @@ void Tissue::targets_in(const surgery::LiveModel& live, const anim::Pose& pose,
                         std::vector<Eigen::Vector3d>& out) const {
   const anim::RiggedModel& model = live.model();
   const std::vector<anim::SkinningPalette> p = surgery::palettes(model, pose);
+  // In the pose the model is placed in (paused while a tear is dragged, a settle), each target is
+  // the vertex as placed: no skinning.
+  const surgery::Placement& placed = live.placement();
+  const bool as_placed = std::equal(p.begin(), p.end(), placed.palettes.begin(), placed.palettes.end(),
+                                    [](const anim::SkinningPalette& a, const anim::SkinningPalette& b) {
+                                      return a.affine == b.affine && a.morph_weights == b.morph_weights;
+                                    });
   out.resize(x_.size());
   for (std::size_t k = 0; k < x_.size(); ++k) {
     const auto i = static_cast<std::size_t>(ref_[k].mesh);
-    out[k] = skinned(model.meshes[i], p[i], ref_[k].vertex);
+    out[k] = as_placed ? row(placed.positions[i], ref_[k].vertex) : skinned(model.meshes[i], p[i], ref_[k].vertex);
   }
 }
 
