@@ -32,10 +32,10 @@ struct TissueOptions {
   /// Particles within this distance of a wound's new vertices are released from their
   /// attachments (model units); 0: a quarter of the region radius.
   double release_margin = 0;
-  /// The region's budget of vertices, which bounds the cost of a step (about 0.5 µs per
+  /// The region's budget of vertices, which bounds the cost of a step (about 0.35 µs per
   /// vertex and frame of 1/90 s on one core): when the region would hold more (a fine mesh),
   /// its radius and the release margin shrink by one factor until it holds this many. The
-  /// default keeps a 90 Hz frame near a millisecond. 0: no budget.
+  /// default keeps a 90 Hz frame under a millisecond. 0: no budget.
   int max_particles = 2000;
 
   /// @throws InvalidInputError naming the field for a negative, NaN or infinite value, a zero
