@@ -552,10 +552,12 @@ void Tissue::step(const surgery::LiveModel& live, const anim::Pose& pose, double
   targets_in(live, pose, to);
   const std::vector<Eigen::Vector3d>& from = have_targets_ ? previous_target_ : to;
   const double h = options_.substep;
-  // The attachment's w / (w + α/h²) of each particle (a division per substep was 5 % of one).
+  // The attachment's w / (w + α/h²) of each particle (a division per substep was 5 % of one);
+  // 0 for no mass to move (w = 0, also when the attachment is rigid: α = 0).
   const double attach = options_.attachment_compliance / (h * h);
   attach_gain_.resize(x_.size());
-  for (std::size_t p = 0; p < x_.size(); ++p) attach_gain_[p] = inverse_mass_[p] / (inverse_mass_[p] + attach);
+  for (std::size_t p = 0; p < x_.size(); ++p)
+    attach_gain_[p] = inverse_mass_[p] > 0 ? inverse_mass_[p] / (inverse_mass_[p] + attach) : 0.0;
   const auto steps = static_cast<long>(std::floor((dt + carried_) / h));
   const std::vector<Eigen::Vector3d> x0 = x_, v0 = v_;
   // Each link's rest vector scale·(t_a − t_b) at the step's start (d0) and its change over the
